@@ -1,0 +1,149 @@
+"""The ``sesp`` command. Angles on the command line are in degrees."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import math
+import sys
+from pathlib import Path
+
+__all__ = ["main"]
+
+log = logging.getLogger("sesp")
+
+USER_ERRORS = (ValueError, MemoryError, FileNotFoundError, FileExistsError, PermissionError, KeyError)
+
+
+def _kernels_cached() -> bool:
+    """True when numba's on-disk cache holds compiled kernels for this install."""
+    from . import _kernels
+
+    cache = Path(_kernels.__file__).parent / "__pycache__"
+    return any(cache.glob("_kernels.*.nbi"))
+
+
+def _announce_compile():
+    if not _kernels_cached():
+        print("sesp: compiling numba kernels (first run only, about a minute)...", file=sys.stderr)
+
+
+def _add_shape_args(p: argparse.ArgumentParser):
+    p.add_argument("--n", type=float, default=2.0, help="degree along x (default 2)")
+    p.add_argument("--m", type=float, default=None, help="degree along y (default: n)")
+    p.add_argument("--aspect", type=float, default=1.0, help="aspect ratio A = a/b (default 1)")
+    p.add_argument("--segments", type=int, default=256, help="polyline segments N (default 256)")
+
+
+def _add_scan(sub):
+    p = sub.add_parser("scan", help="scan the (x, y, φ) grid of one particle pair and save it")
+    _add_shape_args(p)
+    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
+    p.add_argument("--nx", type=int, default=256, help="cells along x (default 256)")
+    p.add_argument("--ny", type=int, default=None, help="cells along y (default: nx)")
+    p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
+    p.add_argument("--engine", choices=("raster", "direct"), default="raster")
+    p.add_argument("--crossings", action="store_true", help="also store crossing counts")
+    p.add_argument("-o", "--output", required=True, type=Path, help="netCDF file to write")
+    p.set_defaults(func=_cmd_scan)
+
+
+def _shape_from_args(args, opening_deg: float):
+    from .shape import SeSP
+
+    if not (0.0 <= opening_deg < 360.0):
+        raise ValueError(f"--opening must be in [0, 360) degrees, got {opening_deg}")
+    return SeSP(n=args.n, m=args.m, aspect=args.aspect, opening=math.radians(opening_deg))
+
+
+def _cmd_scan(args) -> int:
+    from .grid import Grid
+    from .io import save
+    from .scan import scan
+
+    particle = _shape_from_args(args, args.opening)
+    grid = Grid(args.nx, args.ny, args.nphi)
+    _announce_compile()
+    ds = scan(
+        particle, grid, segments=args.segments, engine=args.engine,
+        crossings=args.crossings, progress=not args.quiet,
+    )
+    save(ds, args.output)
+    if not args.quiet:
+        print(f"wrote {args.output}")
+    return 0
+
+
+def _add_info(sub):
+    p = sub.add_parser("info", help="print the parameters and excluded area of a saved scan")
+    p.add_argument("file", type=Path)
+    p.set_defaults(func=_cmd_info)
+
+
+def describe(ds) -> str:
+    """A human-readable summary of a scan dataset."""
+    from .measures import excluded_area
+
+    a = ds.attrs
+    lines = [f"sesp {a.get('sesp_format')} written by sesp {a.get('sesp_version')}"]
+    for prefix in ("particle", "other"):
+        if a.get(f"{prefix}_kind") == "SeSP":
+            shape = (
+                f"SeSP n={a[f'{prefix}_n']:g} m={a[f'{prefix}_m']:g} aspect={a[f'{prefix}_aspect']:g} "
+                f"opening={math.degrees(a[f'{prefix}_opening']):g} deg"
+            )
+        else:
+            shape = f"Polyline of {a[f'{prefix}_segments']} segments"
+        lines.append(f"{prefix:9s}: {shape}, N={a[f'{prefix}_segments']}, length={a[f'{prefix}_length']:.6g} b")
+    if a.get("sesp_format") == "sesp.scan":
+        lines.append(
+            f"grid     : nx={a['nx']} ny={a['ny']} nphi={a['nphi']} half_width={a['half_width']:.6g} b, "
+            f"engine={a['engine']}"
+        )
+        area = excluded_area(ds)
+        lines.append(f"A_ex     : {area:.8g} b^2  (A_ex / 4π = {area / (4 * math.pi):.6g})")
+    else:
+        lines.append(f"samples  : {a['samples']}")
+        lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")
+    return "\n".join(lines)
+
+
+def _cmd_info(args) -> int:
+    from .io import load
+
+    print(describe(load(args.file)))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="sesp", description=__doc__)
+    parser.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for add in COMMANDS:
+        add(sub)
+    return parser
+
+
+COMMANDS = [_add_scan, _add_info]
+
+
+def main(argv=None) -> int:
+    """Entry point of the ``sesp`` console script."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO if not args.quiet else logging.WARNING, format="%(message)s")
+    try:
+        return args.func(args)
+    except USER_ERRORS as err:
+        if args.debug:
+            raise
+        print(f"sesp: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("sesp: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

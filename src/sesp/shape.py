@@ -1,0 +1,318 @@
+"""Particle geometry: superellipse sector particles and general thin polylines.
+
+Lengths are in units of b, the superellipse semi-axis along y. Angles are in
+radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SeSP", "Polyline", "as_polyline", "particle_from_attrs"]
+
+DEFAULT_SEGMENTS = 256
+
+# Dense sampling for the arc-length table: chords are refined until none is
+# longer than this fraction of the curve length.
+_DENSE_CHORD = 2.0**-16
+
+
+def check_positive(name: str, value) -> float:
+    value = float(value)
+    if not math.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def _check_segments(segments) -> int:
+    if isinstance(segments, bool) or int(segments) != segments or segments < 1:
+        raise ValueError(f"segments must be an integer >= 1, got {segments!r}")
+    return int(segments)
+
+
+class Polyline:
+    """A thin particle given by its vertices, in its own frame.
+
+    The particle's centre (the point it rotates about) is the origin of the
+    vertex coordinates; its orientation vector is +x.
+
+    Parameters
+    ----------
+    vertices : (K, 2) array_like
+        K >= 2 finite vertices in units of b. Consecutive vertices must differ.
+        A closed curve repeats its first vertex at the end.
+
+    Examples
+    --------
+    >>> needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
+    >>> needle.length
+    2.0
+    """
+
+    def __init__(self, vertices):
+        v = np.array(vertices, dtype=np.float64)
+        if v.ndim != 2 or v.shape[1] != 2:
+            raise ValueError(f"vertices must have shape (K, 2), got {v.shape}")
+        if v.shape[0] < 2:
+            raise ValueError(f"vertices must hold at least 2 points, got {v.shape[0]}")
+        if not np.all(np.isfinite(v)):
+            raise ValueError("vertices must be finite (no NaN or inf)")
+        seg = np.hypot(*np.diff(v, axis=0).T)
+        if np.any(seg == 0):
+            k = int(np.flatnonzero(seg == 0)[0])
+            raise ValueError(f"vertices {k} and {k + 1} coincide: segments must have length > 0")
+        v.flags.writeable = False
+        self._vertices = v
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(K, 2) ndarray: vertex coordinates in units of b (read-only)."""
+        return self._vertices
+
+    @property
+    def segments(self) -> int:
+        """Number of segments, K - 1."""
+        return self._vertices.shape[0] - 1
+
+    @property
+    def segment_lengths(self) -> np.ndarray:
+        """(K - 1,) ndarray: length of each segment, in units of b."""
+        return np.hypot(*np.diff(self._vertices, axis=0).T)
+
+    @property
+    def length(self) -> float:
+        """Total length of the polyline, in units of b."""
+        return float(self.segment_lengths.sum())
+
+    @property
+    def max_radius(self) -> float:
+        """Largest distance of a point of the polyline from its centre (b).
+
+        Distance is convex along a segment, so the maximum is at a vertex.
+        """
+        return float(np.hypot(*self._vertices.T).max())
+
+    @property
+    def is_closed(self) -> bool:
+        """True when the last vertex equals the first."""
+        return bool(np.array_equal(self._vertices[0], self._vertices[-1]))
+
+    @property
+    def area(self) -> float:
+        """Enclosed area of a closed polyline (shoelace formula), in b²."""
+        if not self.is_closed:
+            raise ValueError("area is defined only for a closed polyline")
+        x, y = self._vertices[:-1].T
+        return float(0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)))
+
+    def hull(self) -> np.ndarray:
+        """Vertices of the convex hull, counter-clockwise, without repetition.
+
+        Returns
+        -------
+        (H, 2) ndarray
+            H >= 2 (a straight needle's hull is its two endpoints).
+        """
+        return convex_hull(self._vertices)
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Polyline) and np.array_equal(self._vertices, other._vertices)
+
+    def __hash__(self):
+        return hash(self._vertices.tobytes())
+
+    def __repr__(self) -> str:
+        return f"Polyline(<{self._vertices.shape[0]} vertices>, length={self.length:.6g})"
+
+
+def convex_hull(points) -> np.ndarray:
+    """Convex hull of 2D points by Andrew's monotone chain, counter-clockwise.
+
+    Collinear points on the hull boundary are dropped. For points that all lie
+    on one line the two extreme points are returned.
+    """
+    pts = np.unique(np.asarray(points, dtype=np.float64), axis=0)  # sorted by x, then y
+    if len(pts) <= 2:
+        return pts
+
+    def half(seq):
+        chain = []
+        for p in seq:
+            while len(chain) >= 2:
+                o, a = chain[-2], chain[-1]
+                if (a[0] - o[0]) * (p[1] - o[1]) - (a[1] - o[1]) * (p[0] - o[0]) > 0:
+                    break
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower = half(pts)
+    upper = half(pts[::-1])
+    hull = np.array(lower[:-1] + upper[:-1])
+    return hull if len(hull) >= 2 else pts[[0, -1]]
+
+
+@dataclass(frozen=True)
+class SeSP:
+    """A superellipse sector particle.
+
+    The part of the superellipse ``x = A sgn(cos θ)|cos θ|^(2/n)``,
+    ``y = sgn(sin θ)|sin θ|^(2/m)`` with θ in [Ψ/2, 2π − Ψ/2]: a curve with an
+    opening of aperture Ψ centred on the +x direction.
+
+    Parameters
+    ----------
+    n : float
+        Degree along x, > 0 (2: circle; large: square corners; < 1: astroid-like).
+    m : float, optional
+        Degree along y, > 0. Defaults to ``n``.
+    aspect : float
+        Aspect ratio A = a/b > 0; the semi-axes are A along x and 1 along y.
+    opening : float
+        Opening aperture Ψ in radians, 0 <= Ψ < 2π. Ψ = 0 is the closed curve.
+
+    References
+    ----------
+    K. Kornick, T. Brzinski, S. V. Franklin, "The excluded area of superellipse
+    sector particles". M. Pilu and R. B. Fisher, "Equal-distance sampling of
+    superellipse models", BMVC 1995.
+
+    Examples
+    --------
+    >>> asp = SeSP(n=2, opening=np.pi / 2)
+    >>> line = asp.polyline(64)
+    >>> line.vertices.shape
+    (65, 2)
+    """
+
+    n: float = 2.0
+    m: float | None = None
+    aspect: float = 1.0
+    opening: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "n", check_positive("n", self.n))
+        m = self.n if self.m is None else check_positive("m", self.m)
+        object.__setattr__(self, "m", m)
+        object.__setattr__(self, "aspect", check_positive("aspect", self.aspect))
+        opening = float(self.opening)
+        if not (math.isfinite(opening) and 0.0 <= opening < 2 * math.pi):
+            raise ValueError(f"opening must be in [0, 2π) radians, got {self.opening!r}")
+        object.__setattr__(self, "opening", opening)
+
+    def closed(self) -> SeSP:
+        """The same shape with no opening (Ψ = 0)."""
+        return SeSP(n=self.n, m=self.m, aspect=self.aspect, opening=0.0)
+
+    @property
+    def is_convex_closed(self) -> bool:
+        """True when the closed curve bounds a convex region (n >= 1 and m >= 1)."""
+        return self.n >= 1 and self.m >= 1
+
+    def point(self, theta) -> np.ndarray:
+        """Points of the superellipse at parameter θ (radians), shape (..., 2)."""
+        theta = np.asarray(theta, dtype=np.float64)
+        c, s = np.cos(theta), np.sin(theta)
+        # cos and sin of multiples of π/2 carry rounding noise of ~1e-16, which
+        # |.|^(2/n) would magnify for large n; zeroing it keeps the point on the curve.
+        c = np.where(np.abs(c) < 1e-15, 0.0, c)
+        s = np.where(np.abs(s) < 1e-15, 0.0, s)
+        x = self.aspect * np.sign(c) * np.abs(c) ** (2.0 / self.n)
+        y = np.sign(s) * np.abs(s) ** (2.0 / self.m)
+        return np.stack([x, y], axis=-1)
+
+    def _upper_arc_table(self):
+        """θ and cumulative arc length along the upper half, θ in [Ψ/2, π]."""
+        start = self.opening / 2
+        theta = np.linspace(start, math.pi, 4097)
+        for _ in range(80):
+            pts = self.point(theta)
+            chord = np.hypot(*np.diff(pts, axis=0).T)
+            long = chord > _DENSE_CHORD * max(chord.sum(), 1e-300)
+            if not long.any():
+                break
+            mids = 0.5 * (theta[:-1][long] + theta[1:][long])
+            theta = np.sort(np.concatenate([theta, mids]))
+        pts = self.point(theta)
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+        return theta, arc
+
+    @property
+    def length(self) -> float:
+        """Arc length of the curve itself (not of a polyline), in units of b."""
+        return 2.0 * float(self._upper_arc_table()[1][-1])
+
+    @property
+    def max_radius(self) -> float:
+        """Largest distance of a point of the curve from its centre, in b."""
+        theta, _ = self._upper_arc_table()
+        return float(np.hypot(*self.point(theta).T).max())
+
+    def polyline(self, segments: int = DEFAULT_SEGMENTS) -> Polyline:
+        """The curve as N segments spanning equal arc length (equal-distance sampling).
+
+        Vertices lie on the curve. The endpoints are exact, and the polyline is
+        exactly mirror-symmetric about the x axis, as the curve is.
+
+        Parameters
+        ----------
+        segments : int
+            N >= 1.
+
+        Returns
+        -------
+        Polyline
+            N + 1 vertices; for Ψ = 0 the last equals the first.
+        """
+        n_seg = _check_segments(segments)
+        theta, arc = self._upper_arc_table()
+        half = arc[-1]
+        # Arc length s_k = k L / N; the point at L - s is the mirror of the point at s.
+        k_upper = np.arange(n_seg // 2 + 1)
+        targets = k_upper * (2.0 * half / n_seg)
+        theta_k = np.interp(targets, arc, theta)
+        theta_k[0] = theta[0]
+        if n_seg % 2 == 0:
+            theta_k[-1] = math.pi
+        upper = self.point(theta_k)
+        lower = upper[: (n_seg + 1) // 2][::-1] * np.array([1.0, -1.0])
+        return Polyline(np.concatenate([upper, lower]))
+
+
+def as_polyline(particle, segments: int = DEFAULT_SEGMENTS) -> Polyline:
+    """The polyline that represents ``particle`` (a SeSP or a Polyline)."""
+    if isinstance(particle, Polyline):
+        return particle
+    if isinstance(particle, SeSP):
+        return particle.polyline(segments)
+    raise TypeError(f"particle must be a SeSP or a Polyline, got {type(particle).__name__}")
+
+
+def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
+    """Attributes that describe ``particle`` and its polyline, keys prefixed."""
+    attrs = {f"{prefix}_kind": type(particle).__name__}
+    if isinstance(particle, SeSP):
+        attrs.update({f"{prefix}_{k}": getattr(particle, k) for k in ("n", "m", "aspect", "opening")})
+    attrs[f"{prefix}_segments"] = curve.segments
+    attrs[f"{prefix}_length"] = curve.length
+    attrs[f"{prefix}_max_radius"] = curve.max_radius
+    attrs[f"{prefix}_vertices"] = curve.vertices.ravel().copy()
+    return attrs
+
+
+def particle_from_attrs(attrs, prefix: str = "particle"):
+    """The SeSP or Polyline described by :func:`particle_attrs`."""
+    kind = attrs.get(f"{prefix}_kind")
+    if kind == "SeSP":
+        return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in ("n", "m", "aspect", "opening")})
+    if kind == "Polyline":
+        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))
+    raise ValueError(f"attribute {prefix}_kind must be 'SeSP' or 'Polyline', got {kind!r}")
+
+
+def curve_from_attrs(attrs, prefix: str = "particle") -> Polyline:
+    """The polyline actually scanned, as stored in the attributes."""
+    return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))

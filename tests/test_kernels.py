@@ -1,0 +1,70 @@
+"""Fast kernels against slow, obvious references on random states."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+import naive
+from sesp import Polyline, SeSP
+from sesp._kernels import crossings_at_states, in_pair_set
+
+STAPLE = Polyline([[0.5, 1.0], [-0.5, 1.0], [-0.5, -1.0], [0.5, -1.0]])
+ZED = Polyline([[-0.6, 0.8], [0.4, 0.8], [-0.4, -0.8], [0.6, -0.8]])
+SHAPES = [
+    SeSP(n=2, opening=math.pi / 2).polyline(24),
+    SeSP(n=8, opening=1.0).polyline(31),
+    SeSP(n=0.6, aspect=1.7, opening=2.5).polyline(20),
+    SeSP(n=4).polyline(16),
+    STAPLE,
+    ZED,
+]
+
+
+def _random_states(rng, reach, count):
+    r = reach * np.sqrt(rng.uniform(0, 1.05, count))
+    a = rng.uniform(0, 2 * np.pi, count)
+    return r * np.cos(a), r * np.sin(a), rng.uniform(0, 2 * np.pi, count)
+
+
+def _kernel_counts(c1, c2, x, y, phi):
+    out = np.empty(len(x), dtype=np.uint16)
+    crossings_at_states(c1.vertices, c2.vertices, x, y, phi, 1e-9, True, out)
+    return out
+
+
+@pytest.mark.parametrize("i", range(len(SHAPES)))
+def test_crossing_counts_match_naive_orientation_test(i):
+    rng = np.random.default_rng(i)
+    c1, c2 = SHAPES[i], SHAPES[(i + 1) % len(SHAPES)]
+    x, y, phi = _random_states(rng, c1.max_radius + c2.max_radius, 400)
+    fast = _kernel_counts(c1, c2, x, y, phi)
+    slow = [naive.crossings(c1.vertices, c2.vertices, *s) for s in zip(x, y, phi)]
+    np.testing.assert_array_equal(fast, slow)
+    assert 0 < np.count_nonzero(fast) < len(fast)  # both outcomes exercised
+
+
+@pytest.mark.parametrize("i", range(len(SHAPES)))
+def test_overlap_matches_shapely_intersects(i):
+    rng = np.random.default_rng(100 + i)
+    c1, c2 = SHAPES[i], SHAPES[i]
+    x, y, phi = _random_states(rng, 2 * c1.max_radius, 400)
+    fast = _kernel_counts(c1, c2, x, y, phi) > 0
+    line1 = shapely.LineString(c1.vertices)
+    ref = [line1.intersects(shapely.LineString(naive.transform(c2.vertices, *s))) for s in zip(x, y, phi)]
+    np.testing.assert_array_equal(fast, ref)
+
+
+def test_pair_predicate_closed_and_degenerate():
+    d, f = (1.0, 0.0), (0.0, 1.0)
+    assert in_pair_set(0.0, 0.0, *d, *f, 1.0, 1.0, 0.0)  # corner: touching counts
+    assert in_pair_set(1.0, 1.0, *d, *f, 1.0, 1.0, 0.0)
+    assert not in_pair_set(1.0 + 1e-6, 0.5, *d, *f, 1.0, 1.0, 1e-9)
+    # parallel segments: the set is the segment [-1, 1] x {0}
+    assert in_pair_set(0.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert in_pair_set(-1.0, 1e-10, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert not in_pair_set(1.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    # nearly parallel: no tolerance tail far along the segments
+    assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9)

@@ -1,0 +1,126 @@
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from sesp import Polyline, SeSP
+from sesp.shape import convex_hull
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"n": -1}, "n"),
+        ({"n": 0}, "n"),
+        ({"n": float("nan")}, "n"),
+        ({"m": -2}, "m"),
+        ({"aspect": 0}, "aspect"),
+        ({"opening": -0.1}, "opening"),
+        ({"opening": 2 * math.pi}, "opening"),
+        ({"opening": 7.0}, "opening"),
+    ],
+)
+def test_invalid_parameters_are_named(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        SeSP(**kwargs)
+
+
+@pytest.mark.parametrize("segments", [0, -3, 2.5, True])
+def test_invalid_segments(segments):
+    with pytest.raises(ValueError, match="segments"):
+        SeSP().polyline(segments)
+
+
+def test_m_defaults_to_n_and_closed_keeps_shape():
+    p = SeSP(n=4, aspect=1.5, opening=1.0)
+    assert p.m == 4
+    c = p.closed()
+    assert (c.n, c.m, c.aspect, c.opening) == (4, 4, 1.5, 0.0)
+
+
+@pytest.mark.parametrize("n, opening, segments", [(2, 0.0, 64), (2, math.pi / 2, 33), (8, 1.0, 40), (0.7, 2.0, 25)])
+def test_polyline_endpoints_exact_and_mirror_symmetric(n, opening, segments):
+    p = SeSP(n=n, opening=opening)
+    v = p.polyline(segments).vertices
+    assert v.shape == (segments + 1, 2)
+    np.testing.assert_allclose(v[0], p.point(opening / 2), rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(v[-1], v[0] * [1, -1])
+    np.testing.assert_array_equal(v[::-1], v * [1, -1])
+
+
+def test_closed_polyline_is_closed():
+    line = SeSP(n=8).polyline(64)
+    assert line.is_closed
+
+
+def _polar_radius(p: SeSP, alpha):
+    # |x/A|^n + |y|^n = 1 in polar form (n = m): smooth in α for n > 1.
+    return (abs(math.cos(alpha) / p.aspect) ** p.n + abs(math.sin(alpha)) ** p.n) ** (-1 / p.n)
+
+
+def _polar_speed(p: SeSP, alpha, h=1e-6):
+    r = _polar_radius(p, alpha)
+    dr = (_polar_radius(p, alpha + h) - _polar_radius(p, alpha - h)) / (2 * h)
+    return math.hypot(r, dr)
+
+
+@pytest.mark.parametrize("n, opening", [(2, 0.5), (4, math.pi / 2), (8, 1.0)])
+def test_vertices_are_equally_spaced_in_arc_length(n, opening):
+    """Arc length along the true curve (quadrature in polar angle) is L/N between vertices."""
+    p = SeSP(n=n, aspect=1.3, opening=opening)
+    v = p.polyline(24).vertices
+    alpha = np.unwrap(np.arctan2(v[:, 1], v[:, 0]) % (2 * np.pi))
+    arcs = [quad(lambda a: _polar_speed(p, a), lo, hi, limit=200)[0] for lo, hi in zip(alpha[:-1], alpha[1:])]
+    np.testing.assert_allclose(arcs, np.mean(arcs), rtol=1e-5)
+    assert sum(arcs) == pytest.approx(p.length, rel=1e-6)
+
+
+def test_circle_polyline_lies_on_the_circle_and_length_converges():
+    p = SeSP(n=2, opening=math.pi / 2)
+    line = p.polyline(1024)
+    np.testing.assert_allclose(np.hypot(*line.vertices.T), 1.0, atol=1e-12)
+    assert line.length == pytest.approx(1.5 * math.pi, rel=1e-6)
+    assert p.length == pytest.approx(1.5 * math.pi, rel=1e-8)
+    assert p.max_radius == pytest.approx(1.0, abs=1e-12)
+
+
+def test_max_radius_of_square_like_curve_is_corner_distance():
+    p = SeSP(n=50)  # |x|^50 + |y|^50 = 1: the corner (t, t) has t = 2^(-1/50)
+    assert p.max_radius == pytest.approx(math.sqrt(2) * 2 ** (-1 / 50), rel=1e-4)
+
+
+def test_polyline_validation():
+    with pytest.raises(ValueError, match="at least 2"):
+        Polyline([[0, 0]])
+    with pytest.raises(ValueError, match="finite"):
+        Polyline([[0, 0], [np.nan, 1]])
+    with pytest.raises(ValueError, match="coincide"):
+        Polyline([[0, 0], [1, 0], [1, 0]])
+    with pytest.raises(ValueError, match="shape"):
+        Polyline([0, 1, 2])
+
+
+def test_polyline_measures():
+    square = Polyline([[1, 1], [-1, 1], [-1, -1], [1, -1], [1, 1]])
+    assert square.length == 8
+    assert square.area == 4
+    assert square.max_radius == pytest.approx(math.sqrt(2))
+    np.testing.assert_array_equal(square.hull(), [[-1, -1], [1, -1], [1, 1], [-1, 1]])
+    with pytest.raises(ValueError, match="closed"):
+        Polyline([[0, 0], [1, 0]]).area
+
+
+def test_convex_hull_of_random_points_contains_them():
+    rng = np.random.default_rng(3)
+    pts = rng.normal(size=(200, 2))
+    hull = convex_hull(pts)
+    edges = np.roll(hull, -1, axis=0) - hull
+    rel = pts[:, None, :] - hull[None, :, :]
+    cross = edges[None, :, 0] * rel[..., 1] - edges[None, :, 1] * rel[..., 0]
+    assert np.all(cross >= -1e-12)
+    assert set(map(tuple, hull)) <= set(map(tuple, pts))
+
+
+def test_needle_hull_is_its_endpoints():
+    np.testing.assert_array_equal(Polyline([[-1, 0], [0, 0], [1, 0]]).hull(), [[-1, 0], [1, 0]])
