@@ -210,3 +210,108 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
         flen = np.empty(b2.shape[0] - 1)
         segment_lengths(b2, flen)
         out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, count), COUNT_MAX)
+
+
+# --- convex-hull tests (entanglement) -------------------------------------------
+#
+# "Curve 2 meets hull(curve 1)" holds at translation t exactly when t lies in
+# hull(C1) ⊕ (−R C2), a union over segments j of the convex polygons
+# hull(C1) ⊕ (−R s_j); likewise "curve 1 meets hull(R C2 + t)" when t lies in
+# C1 ⊕ (−R hull(C2)). Both are a convex polygon Q swept along a polyline, one
+# convex piece per segment. A piece's row span is found from segments that
+# cover its boundary: Q's edges at both ends of the sweep and the sweep path
+# of every vertex of Q.
+
+
+@njit(**_JIT)
+def _widen_rows(x1, y1, x2, y2, ys, delta, lo, hi):
+    """Extend each row's [lo, hi] by where segment (x1, y1)-(x2, y2) crosses it."""
+    hy = ys[1] - ys[0]
+    ymin = min(y1, y2) - delta
+    ymax = max(y1, y2) + delta
+    i0, i1 = _index_range(ymin, ymax, ys[0], hy, ys.shape[0])
+    dy = y2 - y1
+    for iy in range(i0, i1 + 1):
+        y = ys[iy]
+        if y < ymin or y > ymax:
+            continue
+        if dy == 0.0:
+            xa, xb = min(x1, x2), max(x1, x2)
+        else:
+            s = min(max((y - y1) / dy, 0.0), 1.0)
+            xa = xb = x1 + s * (x2 - x1)
+        if xa < lo[iy]:
+            lo[iy] = xa
+        if xb > hi[iy]:
+            hi[iy] = xb
+
+
+@njit(**_JIT)
+def swept_hull_cover(hull, path, xs, ys, delta, lo, hi, diff):
+    """Add the nodes of ∪_k hull ⊕ [path_k, path_k+1] to the row-difference array.
+
+    ``hull`` (H, 2) is a convex polygon (any H >= 1), ``path`` (P, 2) a
+    polyline. ``diff`` (ny, nx + 1) int32 receives +1 / −1 at each covered
+    run's ends; ``lo`` and ``hi`` (ny,) are scratch. Nodes within ``delta``
+    of a piece count as covered (closed sets).
+    """
+    hx = xs[1] - xs[0]
+    nh = hull.shape[0]
+    for k in range(path.shape[0] - 1):
+        px, py, qx, qy = path[k, 0], path[k, 1], path[k + 1, 0], path[k + 1, 1]
+        lo[:] = np.inf
+        hi[:] = -np.inf
+        for v in range(nh):
+            w = (v + 1) % nh
+            ax, ay, bx, by = hull[v, 0], hull[v, 1], hull[w, 0], hull[w, 1]
+            _widen_rows(ax + px, ay + py, bx + px, by + py, ys, delta, lo, hi)
+            _widen_rows(ax + qx, ay + qy, bx + qx, by + qy, ys, delta, lo, hi)
+            _widen_rows(ax + px, ay + py, ax + qx, ay + qy, ys, delta, lo, hi)
+        for iy in range(ys.shape[0]):
+            if lo[iy] > hi[iy]:
+                continue
+            i0, i1 = _index_range(lo[iy] - delta, hi[iy] + delta, xs[0], hx, xs.shape[0])
+            while i0 <= i1 and xs[i0] < lo[iy] - delta:
+                i0 += 1
+            while i1 >= i0 and xs[i1] > hi[iy] + delta:
+                i1 -= 1
+            if i0 <= i1:
+                diff[iy, i0] += 1
+                diff[iy, i1 + 1] -= 1
+
+
+@njit(**_JIT)
+def _covered(diff, out):
+    """out[iy, ix] = True where the running sum of diff's row is positive."""
+    for iy in range(out.shape[0]):
+        run = 0
+        for ix in range(out.shape[1]):
+            run += diff[iy, ix]
+            out[iy, ix] = run > 0
+
+
+@njit(**_JIT, parallel=True)
+def mutual_hull_slices(v1, hull1, v2, hull2, cos_phi, sin_phi, xs, ys, delta, out):
+    """out[k] = True where each curve meets the other's filled convex hull at φ_k."""
+    ny, nx = ys.shape[0], xs.shape[0]
+    for k in prange(cos_phi.shape[0]):
+        c, s = cos_phi[k], sin_phi[k]
+        lo = np.empty(ny)
+        hi = np.empty(ny)
+        diff = np.zeros((ny, nx + 1), dtype=np.int32)
+        # curve 2 meets hull 1: hull1 ⊕ (−R C2)
+        path2 = np.empty_like(v2)
+        rotate(v2, -c, -s, path2)
+        swept_hull_cover(hull1, path2, xs, ys, delta, lo, hi, diff)
+        first = np.empty((ny, nx), dtype=np.bool_)
+        _covered(diff, first)
+        # curve 1 meets hull 2: C1 ⊕ (−R hull2)
+        diff[:] = 0
+        neg_hull2 = np.empty_like(hull2)
+        rotate(hull2, -c, -s, neg_hull2)
+        swept_hull_cover(neg_hull2, v1, xs, ys, delta, lo, hi, diff)
+        second = np.empty((ny, nx), dtype=np.bool_)
+        _covered(diff, second)
+        for iy in range(ny):
+            for ix in range(nx):
+                out[k, iy, ix] = first[iy, ix] and second[iy, ix]

@@ -115,6 +115,38 @@ def _cmd_info(args) -> int:
     return 0
 
 
+def _add_topology(sub):
+    p = sub.add_parser("topology", help="component counts over the opening Ψ and where they change")
+    _add_shape_args(p)
+    p.add_argument("--opening-range", nargs=2, type=float, default=(0.0, 360.0), metavar=("LOW", "HIGH"),
+                   help="Ψ range in degrees (default 0 360)")
+    p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
+    p.add_argument("--quantity", choices=("excluded", "allowed", "entangled"), default="excluded")
+    p.add_argument("--nx", type=int, default=256, help="cells along x and y (default 256)")
+    p.add_argument("--nphi", type=int, default=1024, help="orientations (default 1024)")
+    p.add_argument("--tolerance", type=float, default=0.02, help="bracket half-width, radians (default 0.02)")
+    p.add_argument("--refine", type=int, default=2, help="second resolution = this times the first (1: none)")
+    p.set_defaults(func=_cmd_topology)
+
+
+def _cmd_topology(args) -> int:
+    from .grid import Grid
+    from .topology import find_transitions, format_result
+
+    lo, hi = args.opening_range
+    if not (0.0 <= lo < hi <= 360.0):
+        raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
+    family = _shape_from_args(args, 0.0)
+    _announce_compile()
+    result = find_transitions(
+        family, args.quantity, (math.radians(lo), math.radians(hi)), grid=Grid(args.nx, nphi=args.nphi),
+        segments=args.segments, step=math.radians(args.step), tolerance=args.tolerance,
+        refine_factor=args.refine, progress=not args.quiet,
+    )
+    print(format_result(result, family))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="sesp", description=__doc__)
     parser.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -125,7 +157,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMANDS = [_add_scan, _add_info]
+COMMANDS = [_add_scan, _add_info, _add_topology]
 
 
 def main(argv=None) -> int:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
@@ -16,9 +17,9 @@ import xarray as xr
 from . import _kernels
 from ._version import __version__
 from .grid import Grid
-from .shape import DEFAULT_SEGMENTS, as_polyline, check_positive, particle_attrs
+from .shape import DEFAULT_SEGMENTS, Polyline, as_polyline, check_positive, particle_attrs
 
-__all__ = ["scan", "monte_carlo", "ENGINES", "field_sha256"]
+__all__ = ["scan", "iter_slices", "prepare", "monte_carlo", "ENGINES", "field_sha256"]
 
 log = logging.getLogger(__name__)
 
@@ -68,10 +69,85 @@ def _fill_counts(curve1, curve2, grid, k0, k1, engine, count, delta):
     return out
 
 
+def _fill_mutual_hulls(curve1, curve2, grid, k0, k1, delta):
+    """Where each curve meets the other's convex hull, orientations k0..k1-1."""
+    cos_phi, sin_phi = grid.rotations()
+    out = np.empty((k1 - k0, grid.ny, grid.nx), dtype=bool)
+    _kernels.mutual_hull_slices(
+        curve1.vertices, curve1.hull(), curve2.vertices, curve2.hull(),
+        cos_phi[k0:k1], sin_phi[k0:k1], grid.x, grid.y, delta, out,
+    )
+    return out
+
+
 def _progress(total: int, enabled: bool, desc: str):
     from tqdm.auto import tqdm
 
     return tqdm(total=total, disable=not enabled, unit="φ", desc=desc, leave=False)
+
+
+@dataclass(frozen=True)
+class Slices:
+    """One chunk of orientations k0..k1-1 of a scan (arrays shaped (k1 - k0, ny, nx))."""
+
+    k0: int
+    k1: int
+    allowed: np.ndarray
+    crossings: np.ndarray | None = None
+    entangled: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class Setup:
+    """A checked scan request: the two polylines, the resolved grid, the tolerance."""
+
+    particle: object
+    other: object
+    curve1: Polyline
+    curve2: Polyline
+    grid: Grid
+    engine: str
+    delta: float
+
+    def attrs(self) -> dict:
+        """Dataset attributes that reproduce this scan."""
+        attrs = {"sesp_format": "sesp.scan", "sesp_format_version": 1, "sesp_version": __version__}
+        attrs.update(particle_attrs(self.particle, self.curve1, "particle"))
+        attrs.update(particle_attrs(self.other, self.curve2, "other"))
+        attrs["identical_particles"] = int(self.curve1 == self.curve2)
+        attrs.update(self.grid.to_attrs())
+        attrs.update({"engine": self.engine, "touch_tolerance": self.delta})
+        return attrs
+
+
+def prepare(particle, grid=None, *, other=None, segments=DEFAULT_SEGMENTS, engine="raster") -> Setup:
+    """Check a scan request and build its polylines and grid, before any heavy work."""
+    engine = _check_engine(engine)
+    curve1, curve2 = _curves(particle, other, segments)
+    reach = curve1.max_radius + curve2.max_radius
+    grid = (grid if grid is not None else Grid()).resolve(reach)
+    other = particle if other is None else other
+    return Setup(particle, other, curve1, curve2, grid, engine, TOUCH_TOLERANCE * reach)
+
+
+def iter_slices(setup: Setup, *, crossings=False, entangled=False, chunk=None, progress=False):
+    """Yield the scan chunk by chunk over φ, never holding the whole field.
+
+    Memory stays O(nx · ny · chunk). Each chunk is a :class:`Slices`.
+    """
+    grid = setup.grid
+    chunk = _phi_chunk(grid) if chunk is None else max(1, int(chunk))
+    with _progress(grid.nphi, progress, f"scan ({setup.engine})") as bar:
+        for k0 in range(0, grid.nphi, chunk):
+            k1 = min(k0 + chunk, grid.nphi)
+            counts = _fill_counts(setup.curve1, setup.curve2, grid, k0, k1, setup.engine, crossings, setup.delta)
+            allowed = counts == 0
+            tangled = None
+            if entangled:
+                tangled = _fill_mutual_hulls(setup.curve1, setup.curve2, grid, k0, k1, setup.delta)
+                tangled &= allowed
+            yield Slices(k0, k1, allowed, counts if crossings else None, tangled)
+            bar.update(k1 - k0)
 
 
 def scan(
@@ -82,6 +158,7 @@ def scan(
     segments: int = DEFAULT_SEGMENTS,
     engine: str = "raster",
     crossings: bool = False,
+    entangled: bool = False,
     memory_limit: int | None = None,
     progress: bool = False,
 ) -> xr.Dataset:
@@ -108,6 +185,9 @@ def scan(
         Both give identical fields.
     crossings : bool
         Also store ``crossings``, the number of segment pairs that meet.
+    entangled : bool
+        Also store ``entangled``: allowed states in which each curve meets the
+        other's filled convex hull (mutual entanglement).
     memory_limit : int, optional
         Bytes the stored fields may take; default half the available memory.
         A larger grid is refused before anything is allocated.
@@ -118,8 +198,13 @@ def scan(
     -------
     xarray.Dataset
         ``allowed(phi, y, x)`` bool, optionally ``crossings(phi, y, x)``
-        uint16, coordinates in units of b and radians, and attributes that
-        reproduce the scan.
+        uint16 and ``entangled(phi, y, x)`` bool, coordinates in units of b
+        and radians, and attributes that reproduce the scan.
+
+    See Also
+    --------
+    iter_slices : the same field chunk by chunk, for reductions of grids
+        larger than memory.
 
     Examples
     --------
@@ -127,39 +212,18 @@ def scan(
     >>> ds.allowed.dims
     ('phi', 'y', 'x')
     """
-    engine = _check_engine(engine)
-    curve1, curve2 = _curves(particle, other, segments)
-    reach = curve1.max_radius + curve2.max_radius
-    grid = (grid if grid is not None else Grid()).resolve(reach)
-    fields = ("allowed", "crossings") if crossings else ("allowed",)
+    setup = prepare(particle, grid, other=other, segments=segments, engine=engine)
+    grid = setup.grid
+    fields = ("allowed",) + ("crossings",) * crossings + ("entangled",) * entangled
     grid.check_memory(fields, memory_limit)
-    delta = TOUCH_TOLERANCE * reach
-
-    allowed = np.empty((grid.nphi, grid.ny, grid.nx), dtype=bool)
-    counts = np.empty(allowed.shape, dtype=np.uint16) if crossings else None
-    chunk = _phi_chunk(grid)
-    with _progress(grid.nphi, progress, f"scan ({engine})") as bar:
-        for k0 in range(0, grid.nphi, chunk):
-            k1 = min(k0 + chunk, grid.nphi)
-            out = _fill_counts(curve1, curve2, grid, k0, k1, engine, crossings, delta)
-            np.equal(out, 0, out=allowed[k0:k1])
-            if crossings:
-                counts[k0:k1] = out
-            bar.update(k1 - k0)
-
-    attrs = _scan_attrs(particle, other, curve1, curve2, grid, engine, delta)
-    attrs["allowed_sha256"] = field_sha256(allowed)
-    return _package(allowed, counts, grid, attrs)
-
-
-def _scan_attrs(particle, other, curve1, curve2, grid, engine, delta) -> dict:
-    attrs = {"sesp_format": "sesp.scan", "sesp_format_version": 1, "sesp_version": __version__}
-    attrs.update(particle_attrs(particle, curve1, "particle"))
-    attrs.update(particle_attrs(other if other is not None else particle, curve2, "other"))
-    attrs["identical_particles"] = int(other is None or curve1 == curve2)
-    attrs.update(grid.to_attrs())
-    attrs.update({"engine": engine, "touch_tolerance": delta})
-    return attrs
+    shape = (grid.nphi, grid.ny, grid.nx)
+    data = {name: np.empty(shape, dtype=np.uint16 if name == "crossings" else bool) for name in fields}
+    for part in iter_slices(setup, crossings=crossings, entangled=entangled, progress=progress):
+        for name, array in data.items():
+            array[part.k0 : part.k1] = getattr(part, name)
+    attrs = setup.attrs()
+    attrs["allowed_sha256"] = field_sha256(data["allowed"])
+    return _package(data, grid, attrs)
 
 
 def _coords(grid: Grid) -> dict:
@@ -170,12 +234,17 @@ def _coords(grid: Grid) -> dict:
     }
 
 
-def _package(allowed, counts, grid, attrs) -> xr.Dataset:
+LONG_NAMES = {
+    "allowed": "state allowed (curves do not meet)",
+    "crossings": "segment pairs that meet (n)",
+    "entangled": "allowed and mutually entangled (each curve meets the other's convex hull)",
+}
+
+
+def _package(data, grid, attrs) -> xr.Dataset:
     dims = ("phi", "y", "x")
-    data = {"allowed": (dims, allowed, {"long_name": "state allowed (curves do not meet)"})}
-    if counts is not None:
-        data["crossings"] = (dims, counts, {"long_name": "segment pairs that meet (n)"})
-    return xr.Dataset(data, coords=_coords(grid), attrs=attrs)
+    variables = {name: (dims, array, {"long_name": LONG_NAMES[name]}) for name, array in data.items()}
+    return xr.Dataset(variables, coords=_coords(grid), attrs=attrs)
 
 
 def _rng(seed) -> np.random.Generator:
@@ -222,21 +291,18 @@ def monte_carlo(
     """
     if isinstance(samples, bool) or int(samples) != samples or samples < 1:
         raise ValueError(f"samples must be an integer >= 1, got {samples!r}")
-    curve1, curve2 = _curves(particle, other, segments)
-    reach = curve1.max_radius + curve2.max_radius
+    setup = prepare(particle, other=other, segments=segments)
+    reach = setup.curve1.max_radius + setup.curve2.max_radius
     side = 2.0 * (reach if half_width is None else check_positive("half_width", half_width))
     rng = _rng(seed)
     x, y = rng.uniform(-side / 2, side / 2, size=(2, int(samples)))
     phi = rng.uniform(0.0, 2 * math.pi, size=int(samples))
     counts = np.empty(int(samples), dtype=np.uint16)
-    delta = TOUCH_TOLERANCE * reach
-    _kernels.crossings_at_states(curve1.vertices, curve2.vertices, x, y, phi, delta, False, counts)
+    _kernels.crossings_at_states(setup.curve1.vertices, setup.curve2.vertices, x, y, phi, setup.delta, False, counts)
     overlap = counts > 0
     p = overlap.mean()
-    attrs = {"sesp_format": "sesp.monte_carlo", "sesp_format_version": 1, "sesp_version": __version__}
-    attrs.update(particle_attrs(particle, curve1, "particle"))
-    attrs.update(particle_attrs(other if other is not None else particle, curve2, "other"))
-    attrs.update({"half_width": side / 2, "samples": int(samples), "touch_tolerance": delta})
+    attrs = {k: v for k, v in setup.attrs().items() if k not in ("nx", "ny", "nphi", "engine")}
+    attrs.update({"sesp_format": "sesp.monte_carlo", "half_width": side / 2, "samples": int(samples)})
     area = {"units": "b^2"}
     return xr.Dataset(
         {

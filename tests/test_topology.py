@@ -1,0 +1,114 @@
+import math
+
+import numpy as np
+import pytest
+
+from sesp import Grid, SeSP, scan
+from sesp.regions import summarize
+from sesp.topology import components, excluded_components, find_transitions, format_result, state_components
+
+
+def _disk(n, cx, cy, r):
+    y, x = np.mgrid[:n, :n]
+    return (x - cx) ** 2 + (y - cy) ** 2 <= r * r
+
+
+def _diamond(n, cx, cy, r):
+    y, x = np.mgrid[:n, :n]
+    return np.abs(x - cx) + np.abs(y - cy) <= r
+
+
+def test_two_diamonds_touching_at_a_vertex_are_two_components():
+    for n in (60, 61):  # parity of the grid does not matter
+        c = n / 2
+        mask = _diamond(n, c - 10, c, 10) | _diamond(n, c + 10, c, 10)
+        assert mask[int(c), :].sum() > 20  # the pinch row is in the set
+        assert components(mask).count == 2
+        bridge = mask.copy()
+        bridge[int(c) - 3 : int(c) + 4, int(c) - 4 : int(c) + 5] = True
+        assert components(bridge).count == 1  # a thick bridge does join them
+
+
+def test_fragments_and_isolated_points_do_not_count():
+    mask = _disk(50, 25, 25, 12)
+    mask[2, 2] = mask[2, 3] = True  # a two-node fragment
+    mask[45:47, 45:47] = True  # 2 x 2 block: no interior node
+    c = components(mask)
+    assert c.count == 1
+    # the fragments (6 nodes) and the disk's 4 one-node tips on the axes
+    assert c.unassigned == 6 + 4
+    assert c.sizes[0] == np.count_nonzero(_disk(50, 25, 25, 12)) - 4
+
+
+def test_areas_sorted_and_measured():
+    mask = _disk(80, 20, 20, 10) | _disk(80, 60, 60, 15)
+    c = components(mask, measure=0.5)
+    assert c.count == 2
+    assert c.areas[0] > c.areas[1]
+    assert c.areas.sum() + 0.5 * c.unassigned == pytest.approx(0.5 * np.count_nonzero(mask))
+    assert c.unassigned == 8  # the one-node tips of two lattice disks
+
+
+def test_periodic_axis_joins_components_across_the_seam():
+    field = np.zeros((20, 12, 12), dtype=bool)
+    field[:4, 3:9, 3:9] = True  # wraps: first 4 slices ...
+    field[-4:, 3:9, 3:9] = True  # ... and last 4 slices are one blob
+    field[8:13, 3:9, 3:9] = True  # a separate blob in the middle
+    assert components(field).count == 3
+    assert components(field, periodic=(0,)).count == 2
+    # a diagonal step across the seam is still a neighbour with full connectivity
+    diag = np.zeros((20, 12, 12), dtype=bool)
+    diag[:4, 3:9, 3:9] = True
+    diag[-4:, 4:10, 4:10] = True
+    assert components(diag, periodic=(0,)).count == 1
+
+
+def test_allowed_states_wrap_in_phi():
+    ds = scan(SeSP(n=2, opening=math.pi / 2), Grid(40, nphi=32), segments=32, entangled=True)
+    allowed = state_components(ds, "allowed")
+    assert allowed.count >= 1
+    assert allowed.areas.sum() <= float(ds.allowed.sum()) * allowed.measure
+    with pytest.raises(ValueError, match="which"):
+        state_components(ds, "free")
+
+
+@pytest.mark.parametrize("degrees", [60, 90, 120])
+def test_asp_island_area_is_the_lens_and_converges(degrees):
+    """The island where both endpoint disks overlap has area (π − Ψ) − sin Ψ."""
+    opening = math.radians(degrees)
+    exact = (math.pi - opening) - math.sin(opening)
+    errors = []
+    for nx in (128, 256):
+        s = summarize(SeSP(n=2, opening=opening), Grid(nx, nphi=4 * nx), segments=256, entangled=False)
+        comps = excluded_components(s)
+        ix = int(np.argmin(np.abs(s.x.values - math.cos(opening / 2))))
+        iy = int(np.argmin(np.abs(s.y.values)))
+        island = comps.labels[iy, ix]
+        assert comps.count == 2 and island > 0
+        errors.append(abs(comps.areas[island - 1] - exact) / exact)
+    assert errors[1] < errors[0]
+    assert errors[1] < 0.05
+
+
+def test_counts_identical_for_even_and_odd_grids():
+    for degrees in range(40, 181, 20):
+        counts = {
+            nx: excluded_components(summarize(SeSP(n=2, opening=math.radians(degrees)), Grid(nx, nphi=1024),
+                                              segments=128, entangled=False)).count
+            for nx in (128, 129)
+        }
+        assert counts[128] == counts[129], (degrees, counts)
+
+
+def test_find_transitions_brackets_a_change():
+    result = find_transitions(SeSP(n=2), "excluded", (math.radians(120), math.radians(200)),
+                              grid=Grid(64, nphi=256), segments=64, step=math.radians(20), tolerance=0.02)
+    coarse = result.transitions[(64, 64, 256)]
+    assert coarse and all(t.high - t.low <= 0.04 + 1e-12 for t in coarse)
+    assert coarse[-1].count_high == 0  # no excluded component once Ψ > π
+    fine = result.transitions[(128, 128, 512)]
+    assert fine
+    report = format_result(result)
+    assert "transitions on grid nx=64" in report and "-> 0" in report
+    with pytest.raises(ValueError, match="quantity"):
+        find_transitions(SeSP(), "holes")
