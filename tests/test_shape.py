@@ -124,3 +124,11 @@ def test_convex_hull_of_random_points_contains_them():
 
 def test_needle_hull_is_its_endpoints():
     np.testing.assert_array_equal(Polyline([[-1, 0], [0, 0], [1, 0]]).hull(), [[-1, 0], [1, 0]])
+
+
+@pytest.mark.parametrize("n", [0.3, 2, 10, 50, 200])
+def test_vertices_satisfy_the_superellipse_equation(n):
+    p = SeSP(n=n, aspect=1.4, opening=1.0)
+    v = p.polyline(256).vertices
+    residual = np.abs(np.abs(v[:, 0] / 1.4) ** n + np.abs(v[:, 1]) ** n - 1)
+    assert residual.max() < (1e-7 if n >= 8 else 1e-12)

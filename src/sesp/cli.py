@@ -147,6 +147,44 @@ def _cmd_topology(args) -> int:
     return 0
 
 
+def _add_sweep(sub):
+    p = sub.add_parser("sweep", help="run a sweep file (resumable) and collect its results")
+    p.add_argument("file", type=Path, help="TOML sweep file")
+    p.add_argument("--output", type=Path, default=None, help="output folder (default: the file's)")
+    p.add_argument("--workers", type=int, default=None, help="local worker processes (default: all cores)")
+    p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address")
+    p.set_defaults(func=_cmd_sweep)
+
+
+def _cmd_sweep(args) -> int:
+    from .sweep import load_spec, run
+
+    load_spec(args.file, output=args.output)  # every error before any work
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    _announce_compile()
+    target = run(args.file, output=args.output, workers=args.workers, scheduler=args.scheduler,
+                 progress=not args.quiet)
+    print(f"wrote {target}")
+    return 0
+
+
+def _add_collect(sub):
+    p = sub.add_parser("collect", help="combine a sweep folder's point files into one dataset")
+    p.add_argument("folder", type=Path)
+    p.add_argument("-o", "--output", type=Path, required=True, help="netCDF file to write")
+    p.set_defaults(func=_cmd_collect)
+
+
+def _cmd_collect(args) -> int:
+    from .io import save
+    from .sweep import collect
+
+    save(collect(args.folder), args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="sesp", description=__doc__)
     parser.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -157,7 +195,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMANDS = [_add_scan, _add_info, _add_topology]
+COMMANDS = [_add_scan, _add_info, _add_topology, _add_sweep, _add_collect]
 
 
 def main(argv=None) -> int:

@@ -21,6 +21,7 @@ __all__ = ["save", "load", "SespFileError"]
 REQUIRED = {
     "sesp.scan": {"allowed": (("phi", "y", "x"), "b")},
     "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
+    "sesp.point": {"excluded_area": (("phi",), "f")},
     "sesp.sweep": {},
 }
 OPTIONAL = {"crossings": (("phi", "y", "x"), "u"), "entangled": (("phi", "y", "x"), "b")}

@@ -46,8 +46,10 @@ class _Accumulator:
         """Fold in orientations k0 .. k0 + len(allowed) - 1 (serially: deterministic)."""
         phi = self.phi[k0 : k0 + allowed.shape[0]]
         self.count += np.count_nonzero(allowed, axis=0)
-        self.cos += np.tensordot(np.cos(phi), allowed, axes=1)
-        self.sin += np.tensordot(np.sin(phi), allowed, axes=1)
+        # one orientation at a time, in order: no BLAS, so sums do not depend on threads
+        for k, angle in enumerate(phi):
+            self.cos[allowed[k]] += math.cos(angle)
+            self.sin[allowed[k]] += math.sin(angle)
         self.excluded_per_phi[k0 : k0 + allowed.shape[0]] = allowed[0].size - np.count_nonzero(allowed, axis=(1, 2))
         if self.tangled is not None and entangled is not None:
             self.tangled |= entangled.any(axis=0)

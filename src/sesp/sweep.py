@@ -1,0 +1,507 @@
+"""Parameter sweeps: TOML files in, one labelled dataset out.
+
+A sweep file names the parameters that vary (lists or ranges), the grid and
+which outputs to keep. Every parameter point becomes one netCDF file named by
+a stable hash of its parameters, written atomically, so an interrupted sweep
+resumes where it stopped and loses nothing. ``collect`` combines the point
+files into one Dataset whose dimensions are the swept parameters.
+
+Sweep file
+----------
+.. code-block:: toml
+
+    [sweep]
+    name = "quick"              # optional, default: the file's stem
+    output = "results/quick"    # folder for point files and the collected file
+    angles = "degrees"          # "degrees" or "radians": unit of every angle here
+
+    [particle]                  # a value, a list, or a range table
+    n = [2, 8]
+    opening = { start = 0, stop = 180, step = 45 }   # stop included if on the step
+    aspect = 1.0
+    segments = 128
+
+    [other]                     # optional: a different second particle (mixtures)
+    n = 4
+
+    [grid]
+    nx = 128
+    nphi = 64                   # ny optional
+
+    [output]
+    keep = ["excluded_area", "classes", "topology"]   # and/or "allowed"
+
+Ranges are ``{start, stop, step}`` or ``{start, stop, num}``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import logging
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ._version import __version__
+from .grid import Grid
+from .io import load, save
+from .shape import DEFAULT_SEGMENTS, SeSP
+
+__all__ = ["SweepSpec", "load_spec", "run", "collect", "compute_point", "KEEP"]
+
+log = logging.getLogger(__name__)
+
+KEEP = ("excluded_area", "classes", "topology", "allowed")
+SHAPE_KEYS = ("n", "m", "aspect", "opening")
+SCHEMA = {
+    "sweep": {"name": str, "output": str, "angles": str},
+    "particle": {"n": float, "m": float, "aspect": float, "opening": float, "segments": int},
+    "other": {"n": float, "m": float, "aspect": float, "opening": float},
+    "grid": {"nx": int, "ny": int, "nphi": int},
+    "output": {"keep": list},
+}
+REQUIRED = {"sweep": ("output", "angles"), "particle": ("n", "opening"), "grid": ("nx", "nphi")}
+MANIFEST = "sweep.json"
+COMPONENTS_KEPT = 4  # areas of the largest excluded components stored per point
+
+
+class SweepError(ValueError):
+    """A sweep file or folder that cannot be used; the message names file and key."""
+
+
+def _values(path, section, key, raw, kind):
+    """The tuple of values a sweep key takes (a scalar gives one value)."""
+    where = f"{path}: [{section}] {key}"
+    if isinstance(raw, dict):
+        extra = set(raw) - {"start", "stop", "step", "num"}
+        if extra or not {"start", "stop"} <= set(raw) or ("step" in raw) == ("num" in raw):
+            raise SweepError(f"{where}: a range needs start, stop and one of step or num")
+        start, stop = float(raw["start"]), float(raw["stop"])
+        if "step" in raw:
+            step = float(raw["step"])
+            if step <= 0 or stop < start:
+                raise SweepError(f"{where}: range needs step > 0 and stop >= start, got {raw}")
+            count = int(math.floor((stop - start) / step + 1e-9)) + 1
+            values = [start + i * step for i in range(count)]
+        else:
+            num = raw["num"]
+            if not isinstance(num, int) or num < 1:
+                raise SweepError(f"{where}: num must be an integer >= 1, got {num!r}")
+            values = np.linspace(start, stop, num).tolist()
+    elif isinstance(raw, list):
+        if not raw:
+            raise SweepError(f"{where}: an empty list sweeps nothing")
+        values = raw
+    else:
+        values = [raw]
+    out = []
+    for v in values:
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise SweepError(f"{where}: expected numbers, got {v!r}")
+        if kind is int and int(v) != v:
+            raise SweepError(f"{where}: expected integers, got {v!r}")
+        out.append(kind(v))
+    if len(set(out)) != len(out):
+        raise SweepError(f"{where}: repeated values {out}")
+    return tuple(out)
+
+
+def _check_schema(path, doc):
+    for section, body in doc.items():
+        if section not in SCHEMA:
+            raise SweepError(f"{path}: unknown section [{section}]; allowed: {', '.join(SCHEMA)}")
+        if not isinstance(body, dict):
+            raise SweepError(f"{path}: [{section}] must be a table")
+        for key in body:
+            if key not in SCHEMA[section]:
+                raise SweepError(f"{path}: unknown key {key!r} in [{section}]; allowed: {', '.join(SCHEMA[section])}")
+    for section, keys in REQUIRED.items():
+        for key in keys:
+            if key not in doc.get(section, {}):
+                raise SweepError(f"{path}: missing key {key!r} in [{section}]")
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A checked sweep: parameter values (angles in radians), grid and outputs."""
+
+    name: str
+    output: Path
+    particle: dict  # key -> tuple of values
+    other: dict | None
+    grid: dict
+    keep: tuple
+    source: str
+
+    @property
+    def dims(self) -> list[str]:
+        """Names of the swept parameters, in file order (other's prefixed ``other_``)."""
+        names = [k for k, v in self.particle.items() if len(v) > 1]
+        if self.other:
+            names += [f"other_{k}" for k, v in self.other.items() if len(v) > 1]
+        return names
+
+    def _axes(self):
+        axes = dict(self.particle)
+        if self.other:
+            axes.update({f"other_{k}": v for k, v in self.other.items()})
+        return axes
+
+    def coords(self) -> dict:
+        axes = self._axes()
+        return {d: list(axes[d]) for d in self.dims}
+
+    def points(self) -> list[dict]:
+        """Every parameter point, in a stable order, each with its index and hash."""
+        axes = self._axes()
+        names = list(axes)
+        out = []
+        for combo in itertools.product(*(axes[k] for k in names)):
+            values = dict(zip(names, combo))
+            particle = {k: values[k] for k in self.particle}
+            other = {k[6:]: values[k] for k in axes if k.startswith("other_")} or None
+            index = [axes[d].index(values[d]) for d in self.dims]
+            point = {"particle": particle, "other": other, "grid": self.grid, "keep": list(self.keep)}
+            point["hash"] = point_hash(point)
+            point["index"] = index
+            out.append(point)
+        return out
+
+
+def point_hash(point: dict) -> str:
+    """Stable 16-hex-digit name of a parameter point (angles in radians)."""
+    payload = {k: point[k] for k in ("particle", "other", "grid", "keep")}
+    payload["format"] = 1
+    text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _resolve_output(path: Path, output: str, base: Path | None) -> Path:
+    out = Path(output)
+    if out.is_absolute() or base is None:
+        return out
+    return base / out
+
+
+def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> SweepSpec:
+    """Read and check a sweep file; every error names the file and the key.
+
+    Every particle and grid of the sweep is built here, so a value out of
+    range is reported before any work starts. ``output`` overrides the file's
+    output folder; a relative output is taken from ``base`` (default: the
+    current directory).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+        doc = tomllib.loads(text)
+    except FileNotFoundError:
+        raise SweepError(f"{path}: no such sweep file") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise SweepError(f"{path}: not valid TOML ({err})") from None
+    _check_schema(path, doc)
+    angles = doc["sweep"]["angles"]
+    if angles not in ("degrees", "radians"):
+        raise SweepError(f"{path}: [sweep] angles must be 'degrees' or 'radians', got {angles!r}")
+    to_rad = math.radians if angles == "degrees" else float
+
+    def section(name):
+        body = doc.get(name)
+        if body is None:
+            return None
+        vals = {k: _values(path, name, k, v, SCHEMA[name][k]) for k, v in body.items()}
+        if "opening" in vals:
+            vals["opening"] = tuple(to_rad(v) for v in vals["opening"])
+        return vals
+
+    particle = section("particle")
+    particle.setdefault("segments", (DEFAULT_SEGMENTS,))
+    other = section("other")
+    grid = {k: v[0] for k, v in section("grid").items()}
+    for k, v in doc["grid"].items():
+        if isinstance(v, (list, dict)):
+            raise SweepError(f"{path}: [grid] {k} must be a single integer")
+    keep = tuple(doc.get("output", {}).get("keep", ["excluded_area"]))
+    unknown = [k for k in keep if k not in KEEP]
+    if unknown or not keep:
+        raise SweepError(f"{path}: [output] keep must list some of {KEEP}, got {list(keep)}")
+    spec = SweepSpec(
+        name=str(doc["sweep"].get("name", path.stem)),
+        output=_resolve_output(path, str(output or doc["sweep"]["output"]), base and Path(base)),
+        particle=particle, other=other, grid=grid, keep=keep, source=text,
+    )
+    _check_values(path, spec)
+    return spec
+
+
+def _check_values(path, spec: SweepSpec):
+    """Build every particle and the grid once, naming the file on failure."""
+    try:
+        Grid(**spec.grid)
+        for point in spec.points():
+            _particles(point)
+            segments = point["particle"]["segments"]
+            if segments < 1:
+                raise ValueError(f"segments must be an integer >= 1, got {segments}")
+    except ValueError as err:
+        raise SweepError(f"{path}: {err}") from None
+    if not spec.name or "/" in spec.name or spec.name.startswith("."):
+        raise SweepError(f"{path}: [sweep] name must be a plain file name, got {spec.name!r}")
+
+
+def _particles(point):
+    shape = {k: point["particle"][k] for k in SHAPE_KEYS if k in point["particle"]}
+    particle = SeSP(**shape)
+    other = None
+    if point["other"]:
+        merged = {**shape, **point["other"]}
+        if "n" in point["other"] and "m" not in point["other"]:
+            merged.pop("m", None)
+        other = SeSP(**merged)
+    return particle, other
+
+
+def common_half_width(spec: SweepSpec) -> float:
+    """One box for every point (the largest needed), so maps share coordinates."""
+    grid = Grid(**spec.grid)
+    cells = min(grid.nx, grid.ny)
+    reach = 0.0
+    for point in spec.points():
+        particle, other = _particles(point)
+        segments = point["particle"]["segments"]
+        r1 = particle.polyline(segments).max_radius
+        r2 = r1 if other is None else other.polyline(segments).max_radius
+        reach = max(reach, r1 + r2)
+    return reach * cells / (cells - 2)
+
+
+def compute_point(point: dict) -> xr.Dataset:
+    """The reduced results of one parameter point, as a Dataset."""
+    from .measures import closed_excluded_area
+    from .regions import position_summary, summarize
+    from .scan import scan
+    from .topology import excluded_components
+
+    particle, other = _particles(point)
+    grid = Grid(**point["grid"])
+    segments = point["particle"]["segments"]
+    keep = point["keep"]
+    want_classes = "classes" in keep
+    field = None
+    if "allowed" in keep:
+        field = scan(particle, grid, other=other, segments=segments, entangled=want_classes)
+        summary = position_summary(field)
+    else:
+        summary = summarize(particle, grid, other=other, segments=segments, entangled=want_classes)
+    out = xr.Dataset(coords={"phi": summary.phi})
+    reference = closed_excluded_area(summary)
+    area = summary.excluded_area
+    out["excluded_area"] = area
+    out["normalized_excluded_area"] = (area / reference).assign_attrs(units="1", long_name="A_ex(φ) / A_ex(closed)")
+    out["mean_excluded_area"] = area.mean("phi").assign_attrs(units="b^2", long_name="orientation-averaged A_ex")
+    out["mean_normalized_excluded_area"] = (area.mean("phi") / reference).assign_attrs(units="1")
+    out["closed_excluded_area"] = xr.DataArray(reference, attrs={"units": "b^2"})
+    if want_classes:
+        for name in ("classes", "allowed_fraction", "mean_orientation"):
+            out[name] = summary[name]
+    if "topology" in keep:
+        comps = excluded_components(summary)
+        areas = np.full(COMPONENTS_KEPT, np.nan)
+        areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
+        out["excluded_components"] = xr.DataArray(comps.count, attrs={"long_name": "robust count of excluded components"})
+        out["component_area"] = xr.DataArray(areas, dims="component", attrs={"units": "b^2", "long_name": "areas, largest first"})
+    if field is not None:
+        out["allowed"] = field.allowed
+    out.attrs = {k: v for k, v in summary.attrs.items() if not k.endswith("_vertices")}
+    out.attrs.update({"sesp_format": "sesp.point", "point_hash": point["hash"], "point": json.dumps(point)})
+    return out
+
+
+def run_point(point: dict, folder: str) -> str:
+    """Compute one point and write ``folder/<hash>.nc`` atomically; return its path."""
+    path = Path(folder) / f"{point['hash']}.nc"
+    save(compute_point(point), path)
+    return str(path)
+
+
+def _finished(path: Path) -> bool:
+    if not path.is_file():
+        return False
+    try:
+        load(path)
+        return True
+    except (ValueError, OSError):
+        log.warning("%s is unreadable and will be recomputed", path)
+        return False
+
+
+def _warm_up():
+    """Compile (or load from cache) every kernel once, before fanning out."""
+    from .regions import summarize
+
+    summarize(SeSP(n=2, opening=1.0), Grid(8, nphi=2), segments=4, entangled=True)
+    return os.getpid()
+
+
+def _init_worker(threads: int):
+    import numba
+
+    numba.set_num_threads(max(1, threads))
+
+
+def _execute_local(todo, folder, workers, bar):
+    if workers <= 1:
+        for point in todo:
+            run_point(point, str(folder))
+            bar.update()
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    threads = max(1, (os.cpu_count() or 1) // workers)
+    ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
+    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads,)) as pool:
+        for future in as_completed([pool.submit(run_point, p, str(folder)) for p in todo]):
+            future.result()
+            bar.update()
+
+
+def _execute_dask(todo, folder, scheduler, bar):
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise SweepError("--scheduler needs dask.distributed: pip install 'sesp[dask]'") from None
+    with Client(scheduler) as client:
+        client.run(_warm_up)
+        futures = client.map(run_point, todo, folder=str(folder), pure=False)
+        for future in as_completed(futures):
+            future.result()
+            bar.update()
+
+
+def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
+    """Record dims, coordinates and point hashes, so ``collect`` needs only the folder."""
+    manifest = {
+        "name": spec.name,
+        "dims": spec.dims,
+        "coords": spec.coords(),
+        "points": [{"index": p["index"], "hash": p["hash"]} for p in points],
+        "keep": list(spec.keep),
+        "source": spec.source,
+    }
+    tmp = folder / f".{MANIFEST}.tmp"
+    tmp.write_text(json.dumps(manifest, indent=1))
+    os.replace(tmp, folder / MANIFEST)
+
+
+def run(path, *, output=None, workers: int | None = None, scheduler: str | None = None,
+        progress: bool = True, collect_result: bool = True) -> Path | None:
+    """Run a sweep file: compute missing points, then collect them.
+
+    Parameters
+    ----------
+    path : path-like
+        The TOML sweep file.
+    output : path-like, optional
+        Overrides the file's output folder.
+    workers : int, optional
+        Local worker processes; default all cores (capped at the points left).
+    scheduler : str, optional
+        Address of a dask.distributed scheduler to run the points on instead.
+    progress : bool
+        Show a progress bar (points done, left, ETA).
+
+    Returns
+    -------
+    Path or None
+        The collected file ``<output>/<name>.nc``.
+    """
+    from tqdm.auto import tqdm
+
+    spec = load_spec(path, output=output)
+    spec = _with_common_box(spec)
+    points = spec.points()
+    folder = spec.output
+    folder.mkdir(parents=True, exist_ok=True)
+    write_manifest(spec, points, folder)
+    todo = [p for p in points if not _finished(folder / f"{p['hash']}.nc")]
+    log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
+    if todo:
+        _warm_up()
+        with tqdm(total=len(points), initial=len(points) - len(todo), disable=not progress, unit="point",
+                  desc=spec.name) as bar:
+            if scheduler:
+                _execute_dask(todo, folder, scheduler, bar)
+            else:
+                workers = min(workers or os.cpu_count() or 1, len(todo))
+                _execute_local(todo, folder, workers, bar)
+    if not collect_result:
+        return None
+    target = folder / f"{spec.name}.nc"
+    save(collect(folder), target)
+    return target
+
+
+def _with_common_box(spec: SweepSpec) -> SweepSpec:
+    grid = dict(spec.grid)
+    grid["half_width"] = common_half_width(spec)
+    return SweepSpec(spec.name, spec.output, spec.particle, spec.other, grid, spec.keep, spec.source)
+
+
+def collect(folder) -> xr.Dataset:
+    """Combine a sweep folder's point files into one Dataset over the swept parameters."""
+    folder = Path(folder)
+    try:
+        manifest = json.loads((folder / MANIFEST).read_text())
+    except FileNotFoundError:
+        raise SweepError(f"{folder}: no {MANIFEST}; is this a sweep output folder?") from None
+    missing = [p["hash"] for p in manifest["points"] if not (folder / f"{p['hash']}.nc").is_file()]
+    if missing:
+        raise SweepError(f"{folder}: {len(missing)} of {len(manifest['points'])} points are not computed yet; "
+                         "run the sweep again to finish them")
+    dims = manifest["dims"]
+    shape = tuple(len(manifest["coords"][d]) for d in dims)
+    arrays, first = {}, None
+    for entry in manifest["points"]:
+        ds = load(folder / f"{entry['hash']}.nc")
+        first = first if first is not None else ds
+        for name, var in ds.data_vars.items():
+            if name not in arrays:
+                fill = np.nan if var.dtype.kind == "f" else 0
+                arrays[name] = np.full(shape + var.shape, fill, dtype=var.dtype)
+            arrays[name][tuple(entry["index"])] = var.values
+    return _collected_dataset(manifest, dims, arrays, first)
+
+
+def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:
+    coords = {}
+    for d in dims:
+        attrs = {"units": "rad"} if d.endswith("opening") else {}
+        coords[d] = (d, np.asarray(manifest["coords"][d], dtype=float), attrs)
+        if d.endswith("opening"):
+            coords[f"{d}_degrees"] = (d, np.degrees(manifest["coords"][d]), {"units": "degree"})
+    for name in ("phi", "y", "x"):
+        if name in first.coords:
+            coords[name] = first[name]
+    variables = {}
+    for name, array in arrays.items():
+        var = first[name]
+        variables[name] = (tuple(dims) + var.dims, array, var.attrs)
+    attrs = {
+        "sesp_format": "sesp.sweep",
+        "sesp_format_version": 1,
+        "sesp_version": __version__,
+        "sweep_name": manifest["name"],
+        "sweep_file": manifest["source"],
+    }
+    for key in ("nx", "ny", "nphi", "half_width"):
+        if key in first.attrs:
+            attrs[key] = first.attrs[key]
+    return xr.Dataset(variables, coords=coords, attrs=attrs)

@@ -1,0 +1,167 @@
+import hashlib
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sesp.sweep import SweepError, collect, load_spec, run
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SMALL = """
+[sweep]
+name = "small"
+output = "{out}"
+angles = "degrees"
+
+[particle]
+n = [2, 8]
+opening = {{ start = 30, stop = 120, step = 30 }}
+segments = 24
+
+[grid]
+nx = 24
+nphi = 16
+
+[output]
+keep = ["excluded_area", "classes", "topology"]
+"""
+
+
+def _write(tmp_path, text, name="s.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _point_files(folder: Path):
+    return sorted(p for p in folder.glob("*.nc") if len(p.stem) == 16)
+
+
+@pytest.mark.parametrize("sweep_file", sorted((ROOT / "sweeps").glob("*.toml")), ids=lambda p: p.name)
+def test_shipped_sweep_files_are_valid(sweep_file):
+    spec = load_spec(sweep_file)
+    assert spec.points()
+
+
+def test_spec_points_dims_and_units(tmp_path):
+    spec = load_spec(_write(tmp_path, SMALL.format(out=tmp_path / "o")))
+    assert spec.dims == ["n", "opening"]
+    assert len(spec.points()) == 8
+    np.testing.assert_allclose(spec.particle["opening"], np.radians([30, 60, 90, 120]))
+    hashes = [p["hash"] for p in spec.points()]
+    assert len(set(hashes)) == 8
+    assert hashes == [p["hash"] for p in load_spec(_write(tmp_path, SMALL.format(out=tmp_path / "o"))).points()]
+
+
+def test_radians_and_degrees_name_the_same_points(tmp_path):
+    deg = load_spec(_write(tmp_path, SMALL.format(out="o")))
+    rad_text = SMALL.format(out="o").replace('angles = "degrees"', 'angles = "radians"').replace(
+        "{ start = 30, stop = 120, step = 30 }", str([math.radians(v) for v in (30, 60, 90, 120)]))
+    rad = load_spec(_write(tmp_path, rad_text, "r.toml"))
+    assert [p["hash"] for p in deg.points()] == [p["hash"] for p in rad.points()]
+
+
+@pytest.mark.parametrize(
+    "edit, words",
+    [
+        (("nphi = 16", "nphi = 16\ncolour = 3"), ["unknown key 'colour'", "[grid]"]),
+        (("[output]", "[plots]\nx = 1\n[output]"), ["unknown section [plots]"]),
+        (('angles = "degrees"\n', ""), ["missing key 'angles'"]),
+        (("degrees", "gradians"), ["angles"]),
+        (("stop = 120", "stop = 400"), ["opening"]),
+        (("n = [2, 8]", "n = [2, -8]"), ["n must be"]),
+        (("n = [2, 8]", "n = []"), ["empty"]),
+        (("n = [2, 8]", 'n = ["two"]'), ["[particle] n", "expected numbers"]),
+        (("step = 30", "step = -30"), ["step > 0"]),
+        (("segments = 24", "segments = 2.5"), ["integers"]),
+        (("nx = 24", "nx = 2"), ["nx"]),
+        (('"topology"]', '"topology", "pictures"]'), ["keep"]),
+        (("nx = 24", "nx = 24 24"), ["not valid TOML"]),
+    ],
+)
+def test_bad_sweep_files_name_file_and_key(tmp_path, edit, words):
+    text = SMALL.format(out="o").replace(*edit)
+    path = _write(tmp_path, text)
+    with pytest.raises(SweepError) as err:
+        load_spec(path)
+    assert str(path) in str(err.value)
+    for word in words:
+        assert word in str(err.value)
+
+
+def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
+    path = _write(tmp_path, SMALL.format(out=tmp_path / "out"))
+    target = run(path, workers=1, progress=False)
+    ds = xr.open_dataset(target)
+    assert dict(ds.sizes) == {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "component": 4}
+    assert ds.excluded_area.dims == ("n", "opening", "phi")
+    assert ds.opening.attrs["units"] == "rad"
+    np.testing.assert_allclose(ds.opening_degrees, [30, 60, 90, 120])
+    assert ds.classes.attrs["flag_meanings"] == "free spooning entangled excluded"
+    ds.close()
+    stamps = {p.name: p.stat().st_mtime_ns for p in _point_files(tmp_path / "out")}
+    run(path, workers=1, progress=False)
+    assert {p.name: p.stat().st_mtime_ns for p in _point_files(tmp_path / "out")} == stamps
+
+
+def test_collect_refuses_incomplete_folder(tmp_path):
+    path = _write(tmp_path, SMALL.format(out=tmp_path / "out"))
+    run(path, workers=1, progress=False, collect_result=False)
+    _point_files(tmp_path / "out")[0].unlink()
+    with pytest.raises(SweepError, match="1 of 8 points are not computed"):
+        collect(tmp_path / "out")
+
+
+KILL_SWEEP = SMALL.replace("stop = 120, step = 30", "stop = 165, step = 15").replace("nx = 24", "nx = 64").replace(
+    "nphi = 16", "nphi = 64").replace("segments = 24", "segments = 64")
+
+
+def test_killed_sweep_resumes_without_recomputing(tmp_path):
+    """SIGKILL a real sweep process part-way, rerun, compare with an uninterrupted run."""
+    path = _write(tmp_path, KILL_SWEEP.format(out=tmp_path / "killed"))
+    folder = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while len(_point_files(folder)) < 3 and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.02)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    done = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in _point_files(folder)}
+    assert 3 <= len(done) < 20, "the kill should land part-way through the sweep"
+    run(path, workers=1, progress=False)
+    after = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in _point_files(folder)}
+    assert all(after[name] == stamp for name, stamp in done.items())  # not recomputed
+    assert len(after) == 20
+    fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
+    assert _digest(folder / "small.nc") == _digest(fresh)
+    for a, b in zip(_point_files(folder), _point_files(tmp_path / "fresh")):
+        assert a.name == b.name and _digest(a) == _digest(b)
+    assert not list(folder.glob(".*.tmp"))
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+@pytest.mark.filterwarnings("ignore::ResourceWarning")
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
+def test_dask_cluster_and_local_processes_write_identical_files(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    path = _write(tmp_path, SMALL.format(out="unused"))
+    local = run(path, output=tmp_path / "local", workers=2, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        remote = run(path, output=tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
+    assert _digest(local) == _digest(remote)
+    for a, b in zip(_point_files(tmp_path / "local"), _point_files(tmp_path / "dask")):
+        assert a.name == b.name and _digest(a) == _digest(b)
