@@ -185,6 +185,65 @@ def _cmd_collect(args) -> int:
     return 0
 
 
+PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology")
+
+
+def _add_plot(sub):
+    p = sub.add_parser("plot", help="draw one figure to an image file")
+    p.add_argument("kind", choices=PLOT_KINDS)
+    p.add_argument("file", type=Path, nargs="?", help="a scan or collected sweep file (not for 'gallery')")
+    p.add_argument("-o", "--output", type=Path, required=True, help="image file (png, pdf, svg)")
+    p.add_argument("--style", choices=("raster", "dots"), default="raster", help="map style")
+    p.set_defaults(func=_cmd_plot)
+
+
+def _cmd_plot(args) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import plot
+    from .io import load
+
+    if args.kind == "gallery":
+        fig = plot.shape_gallery()
+    else:
+        if args.file is None:
+            raise ValueError(f"plot {args.kind} needs a FILE")
+        ds = load(args.file)
+        if args.kind == "map":
+            fig, ax = plt.subplots(figsize=(6, 5), layout="constrained")
+            plot.allowed_map(ds, style=args.style, ax=ax)
+        else:
+            kind = {"maps": "maps" if args.style == "dots" else "maps_raster"}.get(args.kind, args.kind)
+            fig = plot._figure(kind, ds)
+    fig.savefig(args.output, dpi=110)
+    plt.close(fig)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def _add_figures(sub):
+    p = sub.add_parser("figures", help="render the paper's figures from the shipped sweeps' results")
+    p.add_argument("results", type=Path, help="folder holding one output folder per sweep")
+    p.add_argument("-o", "--output", type=Path, required=True, help="folder for the images")
+    p.set_defaults(func=_cmd_figures)
+
+
+def _cmd_figures(args) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from .plot import render_figures
+
+    if not args.results.is_dir():
+        raise FileNotFoundError(f"{args.results}: no such folder")
+    for path in render_figures(args.results, args.output):
+        print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="sesp", description=__doc__)
     parser.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -195,7 +254,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMANDS = [_add_scan, _add_info, _add_topology, _add_sweep, _add_collect]
+COMMANDS = [_add_scan, _add_info, _add_topology, _add_sweep, _add_collect, _add_plot, _add_figures]
 
 
 def main(argv=None) -> int:

@@ -1,0 +1,101 @@
+"""Image tests: every plot renders without warnings and the PNG is not blank."""
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from sesp import Grid, SeSP, plot, scan  # noqa: E402
+from sesp.cli import main  # noqa: E402
+from sesp.regions import position_summary  # noqa: E402
+from sesp.sweep import run  # noqa: E402
+from test_sweep import SMALL  # noqa: E402
+
+
+def _pixels(path):
+    image = plt.imread(path)[..., :3]
+    return image.reshape(-1, 3)
+
+
+def assert_not_blank(path, min_colors=8):
+    pixels = _pixels(path)
+    assert pixels.std() > 0.05, "image is (nearly) uniform"
+    assert len(np.unique(np.round(pixels, 2), axis=0)) >= min_colors, "image has too few colours"
+    assert (pixels.sum(axis=1) < 1.5).mean() > 0.002, "nothing dark drawn"
+
+
+@pytest.fixture(scope="module")
+def scan_ds():
+    return scan(SeSP(n=2, opening=math.pi / 2), Grid(48, nphi=32), segments=48, entangled=True)
+
+
+@pytest.fixture(scope="module")
+def sweep_ds(tmp_path_factory):
+    import xarray as xr
+
+    folder = tmp_path_factory.mktemp("sweep")
+    path = folder / "s.toml"
+    text = SMALL.format(out=folder / "out").replace("n = [2, 8]", "n = [2, 4, 8, 10]")
+    text = text.replace("stop = 120, step = 30", "stop = 270, step = 45")
+    path.write_text(text)
+    return xr.load_dataset(run(path, workers=1, progress=False))
+
+
+def _save(fig_or_ax, path):
+    fig = getattr(fig_or_ax, "figure", fig_or_ax)
+    fig.savefig(path, dpi=60)
+    plt.close(fig)
+    return path
+
+
+def test_shape_gallery(tmp_path):
+    assert_not_blank(_save(plot.shape_gallery(), tmp_path / "g.png"))
+
+
+@pytest.mark.parametrize("style", ["raster", "dots"])
+def test_allowed_map_from_scan(scan_ds, tmp_path, style):
+    assert_not_blank(_save(plot.allowed_map(scan_ds, style=style), tmp_path / "m.png"))
+
+
+def test_allowed_map_from_summary_has_class_outlines(scan_ds, tmp_path):
+    ax = plot.allowed_map(position_summary(scan_ds))
+    assert ax.collections, "class outlines are drawn as contours"
+    assert_not_blank(_save(ax, tmp_path / "s.png"))
+    with pytest.raises(ValueError, match="dots"):
+        plot.allowed_map(position_summary(scan_ds), style="dots")
+
+
+def test_excluded_area_curve_and_panels(sweep_ds, tmp_path):
+    assert_not_blank(_save(plot.excluded_area_curve(sweep_ds), tmp_path / "c.png"))
+    fig = plot.excluded_area_panels(sweep_ds)
+    assert len(fig.axes) >= 9
+    assert_not_blank(_save(fig, tmp_path / "p.png"))
+
+
+def test_topology_plot(sweep_ds, tmp_path):
+    assert_not_blank(_save(plot.topology_plot(sweep_ds), tmp_path / "t.png"))
+
+
+def test_map_grid_from_sweep(sweep_ds, tmp_path):
+    assert_not_blank(_save(plot.map_grid(sweep_ds.isel(opening=[0, 1, 2]), style="raster"), tmp_path / "mg.png"))
+
+
+def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
+    from sesp import save
+
+    assert main(["plot", "gallery", "-o", str(tmp_path / "gallery.png")]) == 0
+    assert_not_blank(tmp_path / "gallery.png")
+    results = tmp_path / "results"
+    for name in ("asp_opening", "exponent_opening_orientation"):
+        save(sweep_ds.sel(n=2) if name == "asp_opening" else sweep_ds, results / name / f"{name}.nc")
+    assert main(["figures", str(results), "-o", str(tmp_path / "figs")]) == 0
+    written = sorted(p.name for p in (tmp_path / "figs").iterdir())
+    assert written == ["fig1_shape_gallery.png", "fig4_asp_opening.png", "fig5_exponent_opening_orientation.png",
+                       "topology_asp.png"]
+    for name in written:
+        assert_not_blank(tmp_path / "figs" / name)
