@@ -63,33 +63,47 @@ def pair_geometry(v1, b2, i, j):
 
 
 @njit(**_JIT)
-def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta):
-    """True when w = t − c lies within ``delta`` of {λ d + μ f : λ, μ ∈ [0, 1]}.
+def pair_setup(dx, dy, fx, fy, dlen, flen, delta):
+    """Per-pair constants of the membership test :func:`pair_contains`.
 
-    With D = d × f, λ D = w × f and μ D = d × w. The two strip tests bound the
-    distance to each pair of opposite edges; the projection test on d bounds
-    the extent along d, which keeps a (near-)degenerate parallelogram, i.e.
-    two (nearly) parallel segments, from growing long tolerance tails: when
-    d ∥ f the set is a segment and the tests reduce to "within delta of it".
+    With D = d × f and w = λ d + μ f: λ D = w × f and μ D = d × w. The sign
+    makes D >= 0; the tolerances turn "within delta of an edge" into bounds
+    on those cross products; (lo, hi) bound the projection of w on d.
     """
     big_d = dx * fy - dy * fx
-    u = wx * fy - wy * fx
-    v = dx * wy - dy * wx
-    if big_d < 0.0:
-        big_d = -big_d
-        u = -u
-        v = -v
-    tol_f = delta * flen
+    sign = 1.0 if big_d >= 0.0 else -1.0
+    inv_dlen = 1.0 / dlen
+    q = (fx * dx + fy * dy) * inv_dlen
+    lo = min(q, 0.0) - delta
+    hi = dlen + max(q, 0.0) + delta
+    return sign * big_d, sign, delta * flen, delta * dlen, inv_dlen, lo, hi
+
+
+@njit(**_JIT)
+def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
+    """True when w = t − c lies within delta of {λ d + μ f : λ, μ ∈ [0, 1]}.
+
+    The two strip tests bound the distance to each pair of opposite edges;
+    the projection test on d bounds the extent along d, which keeps a
+    (near-)degenerate parallelogram, i.e. two (nearly) parallel segments,
+    from growing long tolerance tails: when d ∥ f the set is a segment and
+    the tests reduce to "within delta of it".
+    """
+    u = sign * (wx * fy - wy * fx)
     if u < -tol_f or u > big_d + tol_f:
         return False
-    tol_d = delta * dlen
+    v = sign * (dx * wy - dy * wx)
     if v < -tol_d or v > big_d + tol_d:
         return False
-    p = (wx * dx + wy * dy) / dlen
-    q = (fx * dx + fy * dy) / dlen
-    lo = q if q < 0.0 else 0.0
-    hi = dlen + (q if q > 0.0 else 0.0)
-    return p >= lo - delta and p <= hi + delta
+    p = (wx * dx + wy * dy) * inv_dlen
+    return p >= lo and p <= hi
+
+
+@njit(**_JIT)
+def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta):
+    """:func:`pair_contains` with its set-up: one pair, one point."""
+    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta)
+    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi)
 
 
 @njit(**_JIT)
@@ -148,10 +162,14 @@ def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out):
 
 
 @njit(**_JIT)
-def _index_range(lo, hi, origin, step, size):
-    """Indices i with origin + i·step possibly in [lo, hi], clipped to the grid."""
-    i0 = int(math.ceil((lo - origin) / step)) - 1
-    i1 = int(math.floor((hi - origin) / step)) + 1
+def _index_range(lo, hi, origin, inv_step, size):
+    """Indices i with origin + i·step in [lo, hi], clipped to the grid.
+
+    Filters widen [lo, hi] by MARGIN_FACTOR·delta, far more than the rounding
+    of this index arithmetic, so no node the predicate accepts is missed.
+    """
+    i0 = int(math.ceil((lo - origin) * inv_step))
+    i1 = int(math.floor((hi - origin) * inv_step))
     return max(i0, 0), min(i1, size - 1)
 
 
@@ -163,14 +181,19 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
     marked is not tested again (only overlap, not the count, is wanted).
     """
     margin = MARGIN_FACTOR * delta
-    hx = xs[1] - xs[0]
-    hy = ys[1] - ys[0]
+    inv_hx = 1.0 / (xs[1] - xs[0])
+    inv_hy = 1.0 / (ys[1] - ys[0])
     for j in range(b2.shape[0] - 1):
         for i in range(v1.shape[0] - 1):
             cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
             xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
-            ix0, ix1 = _index_range(xmin, xmax, xs[0], hx, xs.shape[0])
-            iy0, iy1 = _index_range(ymin, ymax, ys[0], hy, ys.shape[0])
+            iy0, iy1 = _index_range(ymin, ymax, ys[0], inv_hy, ys.shape[0])
+            if iy0 > iy1:
+                continue
+            ix0, ix1 = _index_range(xmin, xmax, xs[0], inv_hx, xs.shape[0])
+            if ix0 > ix1:
+                continue
+            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta)
             for iy in range(iy0, iy1 + 1):
                 ty = ys[iy]
                 if ty < ymin or ty > ymax:
@@ -181,7 +204,7 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
                         continue
                     if not count and out[iy, ix] != 0:
                         continue
-                    if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen[i], flen[j], delta):
+                    if pair_contains(tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
                         if out[iy, ix] < COUNT_MAX:
                             out[iy, ix] += 1
 
@@ -225,12 +248,15 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
 
 @njit(**_JIT)
 def _widen_rows(x1, y1, x2, y2, ys, delta, lo, hi):
-    """Extend each row's [lo, hi] by where segment (x1, y1)-(x2, y2) crosses it."""
-    hy = ys[1] - ys[0]
+    """Extend each row's [lo, hi] by where segment (x1, y1)-(x2, y2) crosses it.
+
+    Returns the range of rows touched (empty: first > last).
+    """
     ymin = min(y1, y2) - delta
     ymax = max(y1, y2) + delta
-    i0, i1 = _index_range(ymin, ymax, ys[0], hy, ys.shape[0])
+    i0, i1 = _index_range(ymin - delta, ymax + delta, ys[0], 1.0 / (ys[1] - ys[0]), ys.shape[0])
     dy = y2 - y1
+    first, last = ys.shape[0], -1
     for iy in range(i0, i1 + 1):
         y = ys[iy]
         if y < ymin or y > ymax:
@@ -244,40 +270,81 @@ def _widen_rows(x1, y1, x2, y2, ys, delta, lo, hi):
             lo[iy] = xa
         if xb > hi[iy]:
             hi[iy] = xb
+        first = min(first, iy)
+        last = max(last, iy)
+    return first, last
 
 
 @njit(**_JIT)
-def swept_hull_cover(hull, path, xs, ys, delta, lo, hi, diff):
+def _hull_rows(hull, px, py, ys, delta, lo, hi):
+    """Row spans of the convex polygon hull + (px, py); returns the rows touched."""
+    nh = hull.shape[0]
+    first, last = ys.shape[0], -1
+    for v in range(nh):
+        w = (v + 1) % nh
+        f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[w, 0] + px, hull[w, 1] + py, ys, delta, lo, hi)
+        first, last = min(first, f), max(last, l_)
+    return first, last
+
+
+@njit(**_JIT)
+def _tangent_vertices(hull, ex, ey):
+    """Vertices of the hull extreme on either side of direction (ex, ey)."""
+    best_hi, best_lo = -np.inf, np.inf
+    k_hi = k_lo = 0
+    for v in range(hull.shape[0]):
+        side = ex * hull[v, 1] - ey * hull[v, 0]
+        if side > best_hi:
+            best_hi, k_hi = side, v
+        if side < best_lo:
+            best_lo, k_lo = side, v
+    return k_hi, k_lo
+
+
+@njit(**_JIT)
+def swept_hull_cover(hull, path, xs, ys, delta, diff):
     """Add the nodes of ∪_k hull ⊕ [path_k, path_k+1] to the row-difference array.
 
-    ``hull`` (H, 2) is a convex polygon (any H >= 1), ``path`` (P, 2) a
-    polyline. ``diff`` (ny, nx + 1) int32 receives +1 / −1 at each covered
-    run's ends; ``lo`` and ``hi`` (ny,) are scratch. Nodes within ``delta``
-    of a piece count as covered (closed sets).
+    ``hull`` (H, 2) is a convex polygon (H >= 2), ``path`` (P, 2) a polyline.
+    Each piece is the convex hull of two translated copies of ``hull``; its
+    boundary lies on the copies' edges and on the sweep paths of the two
+    vertices extreme across the sweep direction, so the row span is the
+    extent of those. ``diff`` (ny, nx + 1) int32 receives +1 / −1 at each
+    covered run's ends. Nodes within ``delta`` of a piece count as covered.
     """
-    hx = xs[1] - xs[0]
-    nh = hull.shape[0]
+    ny = ys.shape[0]
+    inv_hx = 1.0 / (xs[1] - xs[0])
+    lo_a, hi_a = np.full(ny, np.inf), np.full(ny, -np.inf)
+    lo_b, hi_b = np.full(ny, np.inf), np.full(ny, -np.inf)
+    lo, hi = np.full(ny, np.inf), np.full(ny, -np.inf)
+    a0, a1 = _hull_rows(hull, path[0, 0], path[0, 1], ys, delta, lo_a, hi_a)
     for k in range(path.shape[0] - 1):
         px, py, qx, qy = path[k, 0], path[k, 1], path[k + 1, 0], path[k + 1, 1]
-        lo[:] = np.inf
-        hi[:] = -np.inf
-        for v in range(nh):
-            w = (v + 1) % nh
-            ax, ay, bx, by = hull[v, 0], hull[v, 1], hull[w, 0], hull[w, 1]
-            _widen_rows(ax + px, ay + py, bx + px, by + py, ys, delta, lo, hi)
-            _widen_rows(ax + qx, ay + qy, bx + qx, by + qy, ys, delta, lo, hi)
-            _widen_rows(ax + px, ay + py, ax + qx, ay + qy, ys, delta, lo, hi)
-        for iy in range(ys.shape[0]):
-            if lo[iy] > hi[iy]:
-                continue
-            i0, i1 = _index_range(lo[iy] - delta, hi[iy] + delta, xs[0], hx, xs.shape[0])
-            while i0 <= i1 and xs[i0] < lo[iy] - delta:
-                i0 += 1
-            while i1 >= i0 and xs[i1] > hi[iy] + delta:
-                i1 -= 1
-            if i0 <= i1:
-                diff[iy, i0] += 1
-                diff[iy, i1 + 1] -= 1
+        b0, b1 = _hull_rows(hull, qx, qy, ys, delta, lo_b, hi_b)
+        r0, r1 = min(a0, b0), max(a1, b1)
+        for iy in range(r0, r1 + 1):
+            lo[iy] = min(lo_a[iy], lo_b[iy])
+            hi[iy] = max(hi_a[iy], hi_b[iy])
+        for v in _tangent_vertices(hull, qx - px, qy - py):
+            f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[v, 0] + qx, hull[v, 1] + qy,
+                                ys, delta, lo, hi)
+            r0, r1 = min(r0, f), max(r1, l_)
+        for iy in range(r0, r1 + 1):
+            if lo[iy] <= hi[iy]:
+                i0, i1 = _index_range(lo[iy] - 2 * delta, hi[iy] + 2 * delta, xs[0], inv_hx, xs.shape[0])
+                while i0 <= i1 and xs[i0] < lo[iy] - delta:
+                    i0 += 1
+                while i1 >= i0 and xs[i1] > hi[iy] + delta:
+                    i1 -= 1
+                if i0 <= i1:
+                    diff[iy, i0] += 1
+                    diff[iy, i1 + 1] -= 1
+            lo[iy], hi[iy] = np.inf, -np.inf
+        for iy in range(a0, a1 + 1):  # copy a is done with; copy b becomes a
+            lo_a[iy], hi_a[iy] = np.inf, -np.inf
+        lo_a, lo_b = lo_b, lo_a
+        hi_a, hi_b = hi_b, hi_a
+        a0, a1 = b0, b1
 
 
 @njit(**_JIT)
@@ -296,22 +363,113 @@ def mutual_hull_slices(v1, hull1, v2, hull2, cos_phi, sin_phi, xs, ys, delta, ou
     ny, nx = ys.shape[0], xs.shape[0]
     for k in prange(cos_phi.shape[0]):
         c, s = cos_phi[k], sin_phi[k]
-        lo = np.empty(ny)
-        hi = np.empty(ny)
         diff = np.zeros((ny, nx + 1), dtype=np.int32)
         # curve 2 meets hull 1: hull1 ⊕ (−R C2)
         path2 = np.empty_like(v2)
         rotate(v2, -c, -s, path2)
-        swept_hull_cover(hull1, path2, xs, ys, delta, lo, hi, diff)
+        swept_hull_cover(hull1, path2, xs, ys, delta, diff)
         first = np.empty((ny, nx), dtype=np.bool_)
         _covered(diff, first)
         # curve 1 meets hull 2: C1 ⊕ (−R hull2)
         diff[:] = 0
         neg_hull2 = np.empty_like(hull2)
         rotate(hull2, -c, -s, neg_hull2)
-        swept_hull_cover(neg_hull2, v1, xs, ys, delta, lo, hi, diff)
+        swept_hull_cover(neg_hull2, v1, xs, ys, delta, diff)
         second = np.empty((ny, nx), dtype=np.bool_)
         _covered(diff, second)
         for iy in range(ny):
             for ix in range(nx):
                 out[k, iy, ix] = first[iy, ix] and second[iy, ix]
+
+
+# --- persistence of the distance-to-complement field (robust components) -----------
+
+
+@njit(**_JIT)
+def _find(parent, i):
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@njit(**_JIT)
+def _neighbour(node, k, nz, ny, nx, periodic):
+    """Flat index of the k-th of the 26 (3D) or 8 (nz == 1) neighbours, or −1."""
+    dz, rest = divmod(k, 9)
+    dy, dx = divmod(rest, 3)
+    dz, dy, dx = dz - 1, dy - 1, dx - 1
+    if (dz == 0 and dy == 0 and dx == 0) or (nz == 1 and dz != 0):
+        return -1
+    z, rem = divmod(node, ny * nx)
+    y, x = divmod(rem, nx)
+    z, y, x = z + dz, y + dy, x + dx
+    if y < 0 or y >= ny or x < 0 or x >= nx:
+        return -1
+    if z < 0 or z >= nz:
+        if not periodic:
+            return -1
+        z %= nz
+    return (z * ny + y) * nx + x
+
+
+@njit(**_JIT)
+def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels):
+    """Label the significant components of the superlevel sets of ``dist``.
+
+    ``dist`` is flat over a grid of ``shape`` (nz, ny, nx) (nz = 1 in the
+    plane); axis 0 wraps when ``periodic``. Nodes (flat indices, ``order`` by
+    decreasing ``dist``, only nodes of the set) are added one by one and joined
+    to their already-added neighbours (full connectivity). When two components meet at a node of value s, the
+    one with the lower peak p stays separate if s < ratio · p and
+    p >= min_peak (a narrow neck or a pinch between two bodies), else it is
+    absorbed (a bump or a fragment). Writes each node's final component
+    number (1, 2, ...; 0: in none) to ``labels`` and returns the count.
+    """
+    n = dist.shape[0]
+    parent = np.arange(n)
+    peak = np.zeros(n)
+    merged_into = np.full(n, -1)  # root absorbed into another root (not compressed)
+    kept = np.zeros(n, dtype=np.bool_)  # root that survived a merge as its own component
+    owner = np.full(n, -1)  # root a node joined when it was added
+    added = np.zeros(n, dtype=np.bool_)
+    for node in order:
+        added[node] = True
+        best = -1
+        for k in range(27):
+            nb = _neighbour(node, k, shape[0], shape[1], shape[2], periodic)
+            if nb < 0 or not added[nb]:
+                continue
+            r = _find(parent, nb)
+            if best < 0:
+                best = r
+            elif r != best:
+                hi, lo = (best, r) if peak[best] >= peak[r] else (r, best)
+                if dist[node] < ratio * peak[lo] and peak[lo] >= min_peak:
+                    kept[lo] = True
+                else:
+                    merged_into[lo] = hi
+                parent[lo] = hi
+                best = hi
+        if best < 0:
+            peak[node] = dist[node]
+            owner[node] = node
+        else:
+            parent[node] = best
+            owner[node] = best
+    # final roots with a high enough peak are components too
+    for i in range(n):
+        if added[i] and parent[i] == i and peak[i] >= min_peak:
+            kept[i] = True
+    number = np.zeros(n, dtype=np.int64)
+    count = 0
+    for node in order:  # number components by decreasing peak: the order they were born
+        if owner[node] == node and kept[node]:
+            count += 1
+            number[node] = count
+    for node in order:
+        r = owner[node]
+        while r >= 0 and not kept[r]:
+            r = merged_into[r]
+        labels[node] = number[r] if r >= 0 else 0
+    return count

@@ -2,20 +2,29 @@
 
 Robust count
 ------------
-Sets in this problem touch themselves at single points (for the ASP the
-excluded set pinches at the particle's centre), and a naive pixel count then
-depends on grid parity and on the connectivity chosen. sesp counts the
-components of the set's **h-interior**: the nodes whose whole 3 × 3 block
-(3 × 3 × 3 in (φ, y, x)) lies in the set, joined with full (8- or
-26-) connectivity. Each component is then grown back by one node into the set
-to measure its area. Consequences:
+Sets in this problem touch themselves at single points: for the ASP the
+excluded set is two bodies that meet at the particle's centre, separated
+near it by allowed wedges whose opening angle is Ψ. On a grid such a pinch
+is a junction of excluded nodes about h/Ψ across, so a pixel count, or a
+count of an eroded set, joins the bodies at every resolution once Ψ is small.
 
-* a pinch point, a one-node bridge or a fragment smaller than 3 × 3 nodes is
-  not a component and does not join two components;
-* a part of the set thinner than about 3 nodes is not resolved, so a
-  component that is born thin (an island appearing from a point) is seen
-  from a slightly different Ψ at each resolution; :func:`find_transitions`
-  reports brackets at two resolutions so the convergence is visible.
+sesp therefore counts components by **persistence of the distance to the
+set's complement**. Let d be, for each node of the set, its distance (in node
+spacings) to the nearest node outside the set. Components are the
+superlevel-set components of d, grown from their peaks; when two meet at a
+node of value s (the width of the neck between them), the one with the
+lower peak p (its inscribed radius) stays a component of its own if
+s < ``ratio`` · p, and merges otherwise. Components whose peak is below
+``min_peak`` are noise and are not counted. Consequences:
+
+* a pinch (s ≈ h, p ≫ h) separates two bodies, and ever more surely as h
+  shrinks, whatever the grid's parity;
+* a bump or a cusp-tip fragment joined by a neck nearly as wide as itself
+  is part of the body it hangs on;
+* a component thinner than about ``2 · min_peak`` nodes is not resolved, so
+  one that is born thin (an island appearing from a point) is first seen at
+  slightly different Ψ on different grids; :func:`find_transitions` reports
+  brackets at two resolutions so the convergence is visible.
 
 φ is periodic: a component that wraps through φ = 0 is one component.
 """
@@ -46,14 +55,15 @@ class Components:
     Attributes
     ----------
     labels : ndarray of int32
-        0 outside every component, k = 1..count inside component k (grown back
-        by one node from the interior; pinch nodes go to the higher label).
+        0 outside every component, k = 1..count inside component k (every
+        node of the set belongs to the component it was grown into, except
+        nodes of components too thin to count).
     sizes : (count,) ndarray
         Nodes in each component, largest first (labels are numbered so).
     measure : float
         Area (b²) or hypervolume (b²·rad) of one node.
     unassigned : int
-        Nodes of the set in no component (thin parts, pinches, fragments).
+        Nodes of the set in no component (parts too thin to count).
     """
 
     labels: np.ndarray
@@ -71,92 +81,69 @@ class Components:
         return self.sizes * self.measure
 
 
-def _pad(mask, periodic, outside):
+def _distance_to_complement(mask, periodic, outside):
+    """Euclidean distance, in node spacings, from each node of the set to the nearest node outside it."""
     pad = [(1, 1)] * mask.ndim
-    out = np.pad(mask, pad, mode="constant", constant_values=outside)
     for axis in periodic:
-        # wrap: the padding along a periodic axis copies the opposite edge
-        src = np.pad(mask, pad, mode="wrap")
-        index = [slice(None)] * mask.ndim
-        for edge in (0, -1):
-            index[axis] = edge
-            out[tuple(index)] = src[tuple(index)]
-    return out
+        pad[axis] = (0, 0)
+    padded = np.pad(mask, pad, mode="constant", constant_values=outside)
+    if outside:  # the set continues beyond the box: only nodes inside it can be outside the set
+        padded = np.pad(mask, [(0, 0) if a in periodic else (max(mask.shape), max(mask.shape))
+                               for a in range(mask.ndim)], mode="constant", constant_values=True)
+    reps = [3 if a in periodic else 1 for a in range(mask.ndim)]
+    tiled = np.tile(padded, reps)
+    dist = ndimage.distance_transform_edt(tiled)
+    crop = []
+    for a in range(mask.ndim):
+        start = mask.shape[a] if a in periodic else (padded.shape[a] - mask.shape[a]) // 2
+        crop.append(slice(start, start + mask.shape[a]))
+    return dist[tuple(crop)]
 
 
-def _merge_periodic(labels, periodic):
-    """Relabel so components touching across a periodic seam share a label."""
-    parent = np.arange(labels.max() + 1)
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    for axis in periodic:
-        first = np.take(labels, 0, axis=axis)
-        last = np.take(labels, -1, axis=axis)
-        for offset in np.ndindex(*(3,) * first.ndim):
-            shifted = np.roll(last, [o - 1 for o in offset], axis=tuple(range(first.ndim)))
-            # np.roll wraps; only in-range neighbours are real
-            valid = np.ones(first.shape, dtype=bool)
-            for ax, o in enumerate(offset):
-                idx = [slice(None)] * first.ndim
-                if o == 0:
-                    idx[ax] = 0
-                    valid[tuple(idx)] = False
-                elif o == 2:
-                    idx[ax] = -1
-                    valid[tuple(idx)] = False
-            both = valid & (first > 0) & (shifted > 0)
-            for a, b in set(zip(first[both].tolist(), shifted[both].tolist())):
-                ra, rb = find(a), find(b)
-                if ra != rb:
-                    parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(i) for i in range(len(parent))])
-    return roots[labels]
-
-
-def components(mask, *, periodic=(), outside: bool = False, measure: float = 1.0, min_nodes: int = 9) -> Components:
+def components(mask, *, periodic=(), outside: bool = False, measure: float = 1.0, ratio: float = 0.5,
+               min_peak: float = 2.0) -> Components:
     """Robust connected components of a boolean set (see the module notes).
 
     Parameters
     ----------
     mask : (ny, nx) or (nphi, ny, nx) bool array_like
     periodic : tuple of int
-        Axes that wrap around (φ is axis 0 of a (phi, y, x) field).
+        Axes that wrap around; only axis 0 (φ of a (phi, y, x) field) may.
     outside : bool
         Whether the set continues beyond the grid's box along non-periodic
         axes (True for allowed states, False for excluded positions).
     measure : float
         Area or hypervolume of one node.
-    min_nodes : int
-        Components smaller than this after growing back are dropped; the
-        smallest possible component is one 3 × 3 block (9 nodes).
+    ratio : float
+        A component stays separate where the neck joining it to a larger one
+        is narrower than ``ratio`` times its own inscribed radius.
+    min_peak : float
+        Smallest inscribed radius, in node spacings, of a counted component.
 
     Returns
     -------
     Components
     """
+    from . import _kernels
+
     mask = np.asarray(mask, dtype=bool)
-    periodic = tuple(a % mask.ndim for a in periodic)
-    structure = np.ones((3,) * mask.ndim, dtype=bool)
-    inner = (slice(1, -1),) * mask.ndim
-    interior = ndimage.binary_erosion(_pad(mask, periodic, outside), structure)[inner]
-    labels, _ = ndimage.label(interior, structure)
-    if periodic and labels.max() > 0:
-        labels = _merge_periodic(labels, periodic)
-    modes = ["wrap" if a in periodic else "constant" for a in range(mask.ndim)]
-    grown = ndimage.maximum_filter(labels, size=3, mode=modes, cval=0)
-    labels = np.where(labels > 0, labels, np.where(mask, grown, 0))
-    return _renumber(labels, mask, measure, min_nodes)
+    periodic = tuple(sorted({a % mask.ndim for a in periodic}))
+    if periodic not in ((), (0,)):
+        raise ValueError(f"only axis 0 can be periodic, got {periodic}")
+    dist = _distance_to_complement(mask, periodic, outside).ravel()
+    nodes = np.flatnonzero(mask.ravel())
+    order = nodes[np.argsort(-dist[nodes], kind="stable")]
+    shape = np.array((1,) * (3 - mask.ndim) + mask.shape, dtype=np.int64)
+    labels = np.zeros(mask.size, dtype=np.int64)
+    _kernels.persistent_components(dist, order, shape, bool(periodic), float(ratio), float(min_peak), labels)
+    return _renumber(labels.reshape(mask.shape), mask, measure)
 
 
-def _renumber(labels, mask, measure, min_nodes) -> Components:
+def _renumber(labels, mask, measure) -> Components:
+    """Components numbered by decreasing size."""
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
-    keep = np.flatnonzero(sizes >= max(min_nodes, 1))
+    keep = np.flatnonzero(sizes > 0)
     keep = keep[np.argsort(-sizes[keep], kind="stable")]
     mapping = np.zeros(len(sizes), dtype=np.int32)
     mapping[keep] = np.arange(1, len(keep) + 1, dtype=np.int32)
