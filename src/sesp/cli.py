@@ -12,7 +12,7 @@ __all__ = ["main"]
 
 log = logging.getLogger("sesp")
 
-USER_ERRORS = (ValueError, MemoryError, FileNotFoundError, FileExistsError, PermissionError, KeyError)
+USER_ERRORS = (ValueError, MemoryError, OSError, KeyError)
 
 
 def _kernels_cached() -> bool:

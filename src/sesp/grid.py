@@ -159,11 +159,16 @@ def exact_cos_sin(k: np.ndarray, nphi: int) -> tuple[np.ndarray, np.ndarray]:
     """cos and sin of 2πk/nphi, with exact values at multiples of π/2.
 
     Exact rotations by π/2 keep parallel segments exactly parallel, so the
-    degenerate pairs of DESIGN.md §6 are seen as such by both engines.
+    degenerate pairs of DESIGN.md §6 are seen as such by both engines; and
+    cos(−φ) = cos φ, sin(−φ) = −sin φ hold exactly, so mirror-symmetric
+    particles give exactly mirror-symmetric fields.
     """
     k = np.asarray(k)
-    angle = 2.0 * np.pi * k / nphi
-    c, s = np.cos(angle), np.sin(angle)
+    # angles past π are mirrored from below π, so R(−φ) is exactly R(φ) mirrored
+    upper = 2 * k > nphi
+    folded = np.where(upper, nphi - k, k)
+    angle = 2.0 * np.pi * folded / nphi
+    c, s = np.cos(angle), np.where(upper, -1.0, 1.0) * np.sin(angle)
     quarter = (4 * k) % nphi == 0
     q = (4 * k[quarter]) // nphi % 4
     c[quarter] = np.array([1.0, 0.0, -1.0, 0.0])[q]

@@ -57,6 +57,9 @@ def save(ds: xr.Dataset, path) -> Path:
     try:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(ds))
         os.replace(tmp, path)
+    except (OSError, RuntimeError) as err:  # netCDF reports a failed write as RuntimeError
+        Path(tmp).unlink(missing_ok=True)
+        raise OSError(f"{path}: could not write the file ({err}); is the disk full or the folder read-only?") from err
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

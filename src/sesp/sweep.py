@@ -324,10 +324,57 @@ def compute_point(point: dict) -> xr.Dataset:
     return out
 
 
-def run_point(point: dict, folder: str) -> str:
-    """Compute one point and write ``folder/<hash>.nc`` atomically; return its path."""
+def _lock_path(folder, point) -> Path:
+    return Path(folder) / f".{point['hash']}.lock"
+
+
+def _claim(folder, point) -> bool:
+    """Take the point's lock file; False if a live process holds it.
+
+    A lock left by a process that no longer exists (killed) is taken over.
+    """
+    lock = _lock_path(folder, point)
+    for _ in range(2):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            try:
+                owner = int(lock.read_text() or 0)
+            except (OSError, ValueError):
+                owner = 0
+            if owner and _alive(owner):
+                return False
+            lock.unlink(missing_ok=True)
+            continue
+        with os.fdopen(fd, "w") as handle:
+            handle.write(str(os.getpid()))
+        return True
+    return False
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def run_point(point: dict, folder: str) -> str | None:
+    """Compute one point and write ``folder/<hash>.nc`` atomically; return its path.
+
+    Returns None, computing nothing, when another live runner holds the point.
+    """
     path = Path(folder) / f"{point['hash']}.nc"
-    save(compute_point(point), path)
+    if not _claim(folder, point):
+        return None
+    try:
+        if not _finished(path):
+            save(compute_point(point), path)
+    finally:
+        _lock_path(folder, point).unlink(missing_ok=True)
     return str(path)
 
 
@@ -442,11 +489,23 @@ def run(path, *, output=None, workers: int | None = None, scheduler: str | None 
             else:
                 workers = min(workers or os.cpu_count() or 1, len(todo))
                 _execute_local(todo, folder, workers, bar)
+    _wait_for_others(points, folder)
     if not collect_result:
         return None
     target = folder / f"{spec.name}.nc"
     save(collect(folder), target)
     return target
+
+
+def _wait_for_others(points, folder, poll=0.2):
+    """Finish points that another runner held: wait while it lives, else compute them."""
+    import time
+
+    for point in points:
+        path = folder / f"{point['hash']}.nc"
+        while not _finished(path):
+            if run_point(point, str(folder)) is None:
+                time.sleep(poll)
 
 
 def _with_common_box(spec: SweepSpec) -> SweepSpec:

@@ -1,0 +1,135 @@
+"""Faults survived and inputs refused: kills, disk full, read-only folders, concurrent runners, files."""
+
+import hashlib
+import os
+import random
+import resource
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sesp import Grid, SeSP, SespFileError, load, save, scan
+from sesp.cli import main
+from sesp.sweep import run
+from test_sweep import SMALL, _point_files
+
+# Kills in the SIGKILL test: 20 by default (CI), 100 with SESP_FULL_FAULTS=1.
+KILLS = 100 if os.environ.get("SESP_FULL_FAULTS") else 20
+
+FAULT_SWEEP = SMALL.replace("stop = 120, step = 30", "stop = 165, step = 5").replace("nx = 24", "nx = 48").replace(
+    "nphi = 16", "nphi = 48").replace("segments = 24", "segments = 48")
+
+
+def _digest(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):
+    return subprocess.Popen([sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1", *extra],
+                            stdout=subprocess.DEVNULL, stderr=stderr, start_new_session=True, **kw)
+
+
+def test_sweep_survives_repeated_sigkill(tmp_path):
+    """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run."""
+    path = tmp_path / "s.toml"
+    path.write_text(FAULT_SWEEP.format(out=tmp_path / "killed"))
+    folder = tmp_path / "killed"
+    rng = random.Random(7)
+    kills = 0
+    while kills < KILLS:
+        proc = _sweep_process(path)
+        time.sleep(rng.uniform(0.5, 4.0))
+        if proc.poll() is not None:
+            break  # finished before this kill
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        kills += 1
+        for p in _point_files(folder):  # whatever is on disk is complete
+            load(p)
+    assert kills >= min(KILLS, 5)
+    run(path, workers=1, progress=False)
+    fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
+    assert _digest(folder / "small.nc") == _digest(fresh)
+    assert not list(folder.glob(".*.lock"))
+
+
+def _limit_file_size():
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a too-large write fails with EFBIG instead
+    resource.setrlimit(resource.RLIMIT_FSIZE, (8_000, 8_000))
+
+
+def test_disk_full_leaves_no_file_taken_as_finished(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out").replace('keep = ["excluded_area", "classes", "topology"]',
+                                                               'keep = ["excluded_area", "classes", "allowed"]'))
+    proc = _sweep_process(path, stderr=subprocess.PIPE, preexec_fn=_limit_file_size)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode != 0
+    assert b"Traceback" not in err and b"error" in err
+    for p in _point_files(tmp_path / "out"):
+        load(p)  # anything that was written in full is valid
+    run(path, workers=1, progress=False)  # and a rerun completes the sweep
+    assert len(_point_files(tmp_path / "out")) == 8
+
+
+def test_save_into_unwritable_place_is_a_clear_error(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    code = main(["-q", "scan", "--nx", "8", "--nphi", "2", "--segments", "8", "-o", str(blocker / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err and "file" in err
+
+
+def test_two_runners_on_one_folder(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(FAULT_SWEEP.format(out=tmp_path / "shared"))
+    first, second = _sweep_process(path), _sweep_process(path)
+    assert first.wait(timeout=600) == 0 and second.wait(timeout=600) == 0
+    files = _point_files(tmp_path / "shared")
+    assert len(files) == len({p.name for p in files}) == 2 * 28
+    for p in files:
+        load(p)
+    fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
+    assert _digest(tmp_path / "shared" / "small.nc") == _digest(fresh)
+
+
+def test_loading_never_evaluates_attributes(tmp_path):
+    ds = scan(SeSP(), Grid(8, nphi=2), segments=8)
+    ds.attrs["particle_n"] = "__import__('os').system('touch pwned')"
+    path = save(ds, tmp_path / "evil.nc")
+    back = load(path)  # attributes come back as plain text
+    assert back.attrs["particle_n"].startswith("__import__")
+    assert not (tmp_path / "pwned").exists() and not Path("pwned").exists()
+
+
+def test_sweep_names_cannot_escape_the_output_folder(tmp_path):
+    from sesp.sweep import SweepError, load_spec
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out="o").replace('name = "small"', 'name = "../../escape"'))
+    with pytest.raises(SweepError, match="name"):
+        load_spec(path)
+
+
+@pytest.mark.parametrize(
+    "mutate, word",
+    [
+        (lambda ds: ds.assign(allowed=ds.allowed.astype("float32")), "dtype"),
+        (lambda ds: ds.rename({"allowed": "permitted"}), "missing variable"),
+        (lambda ds: ds.assign_attrs(sesp_format="something.else"), "not a sesp dataset"),
+        (lambda ds: ds.assign_attrs(nphi=5), "nphi"),
+    ],
+)
+def test_malformed_files_are_refused(tmp_path, mutate, word):
+    ds = scan(SeSP(), Grid(8, nphi=2), segments=8)
+    bad = mutate(ds)
+    path = tmp_path / "bad.nc"
+    bad.to_netcdf(path)
+    with pytest.raises(SespFileError, match=word):
+        load(path)
