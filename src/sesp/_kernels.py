@@ -209,17 +209,33 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
                             out[iy, ix] += 1
 
 
+@njit(**_JIT)
+def raster_phi(v1, dlen, v2, c, s, xs, ys, delta, count, out):
+    """Raster engine for one orientation (cosine c, sine s) into ``out`` (ny, nx), zeroed."""
+    b2 = np.empty_like(v2)
+    rotate(v2, c, s, b2)
+    flen = np.empty(b2.shape[0] - 1)
+    segment_lengths(b2, flen)
+    raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out)
+
+
 @njit(**_JIT, parallel=True)
 def raster_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
-    """Raster engine: ``out[k]`` = crossings at φ_k over the grid (out zeroed)."""
+    """Raster engine: ``out[k]`` = crossings at φ_k over the grid (out zeroed), one thread per φ."""
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
     for k in prange(cos_phi.shape[0]):
-        b2 = np.empty_like(v2)
-        rotate(v2, cos_phi[k], sin_phi[k], b2)
-        flen = np.empty(b2.shape[0] - 1)
-        segment_lengths(b2, flen)
-        raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out[k])
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
+
+
+@njit(**_JIT)
+def raster_slices_serial(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
+    """:func:`raster_slices` in one thread: for small grids, where loading the
+    parallel kernel costs more than it saves. Same slices, same results."""
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for k in range(cos_phi.shape[0]):
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
 
 
 @njit(**_JIT, parallel=True)

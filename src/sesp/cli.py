@@ -17,10 +17,13 @@ USER_ERRORS = (ValueError, MemoryError, OSError, KeyError)
 
 def _kernels_cached() -> bool:
     """True when numba's on-disk cache holds compiled kernels for this install."""
+    import numba
+
     from . import _kernels
 
-    cache = Path(_kernels.__file__).parent / "__pycache__"
-    return any(cache.glob("_kernels.*.nbi"))
+    if numba.config.CACHE_DIR:
+        return any(Path(numba.config.CACHE_DIR).rglob("_kernels.*.nbi"))
+    return any((Path(_kernels.__file__).parent / "__pycache__").glob("_kernels.*.nbi"))
 
 
 def _announce_compile():

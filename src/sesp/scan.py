@@ -32,6 +32,9 @@ TOUCH_TOLERANCE = 1e-9
 # Working buffer for one chunk of orientations (uint16 counts), at most this.
 CHUNK_BYTES = 1 << 27
 
+# Chunks with fewer states than this run in one thread (no parallel start-up cost).
+SERIAL_STATES = 1 << 20
+
 
 def field_sha256(allowed) -> str:
     """SHA-256 of a boolean field's C-ordered bytes (one byte per state)."""
@@ -62,7 +65,8 @@ def _fill_counts(curve1, curve2, grid, k0, k1, engine, count, delta):
     out = np.zeros((k1 - k0, grid.ny, grid.nx), dtype=np.uint16)
     args = (curve1.vertices, curve2.vertices, cos_phi[k0:k1], sin_phi[k0:k1], grid.x, grid.y, delta)
     if engine == "raster":
-        _kernels.raster_slices(*args, count, out)
+        small = out.size < SERIAL_STATES
+        (_kernels.raster_slices_serial if small else _kernels.raster_slices)(*args, count, out)
     else:
         reach = curve1.max_radius + curve2.max_radius
         _kernels.direct_slices(*args, reach, count, out)
