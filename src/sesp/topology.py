@@ -318,16 +318,42 @@ def find_transitions(
     return result
 
 
+def _windows(coarse, step, factor):
+    """One search window per coarse transition, widened by ``factor`` steps, overlaps merged."""
+    spans = sorted((max(t.low - factor * step, 0.0), min(t.high + factor * step, 2 * math.pi - 1e-9)) for t in coarse)
+    merged = []
+    for low, high in spans:
+        if merged and low <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], high))
+        else:
+            merged.append((low, high))
+    return merged
+
+
 def _rebracket(make, coarse, quantity, grid, segments, step, tolerance):
-    """Re-bisect each coarse transition on a finer grid, from one step around it."""
-    out, cache = [], {}
-    for t in coarse:
-        low = max(t.low - step, 0.0)
-        high = min(t.high + step, 2 * math.pi - 1e-9)
-        c_low = cache.setdefault(low, _count(make, low, quantity, grid, segments).count)
-        c_high = cache.setdefault(high, _count(make, high, quantity, grid, segments).count)
-        out += _refine(make, low, high, c_low, c_high, quantity, grid, segments, tolerance, cache)
-    return out
+    """Re-bisect the coarse transitions on a finer grid.
+
+    Each is searched in a window of one coarse step on either side, widened
+    (2, then 4 steps) while the counts at the window's ends are equal, so a
+    transition that moved with resolution is followed, not lost.
+    """
+    cache = {}
+
+    def count(o):
+        if o not in cache:
+            cache[o] = _count(make, o, quantity, grid, segments).count
+        return cache[o]
+
+    out = []
+    for factor in (1, 2, 4):
+        pending = [t for t in coarse if not any(f.low <= t.high + factor * step and f.high >= t.low - factor * step
+                                                 for f in out)]
+        for low, high in _windows(pending, step, factor):
+            if count(low) != count(high):
+                out += _refine(make, low, high, count(low), count(high), quantity, grid, segments, tolerance, cache)
+        if len(out) >= len(coarse):
+            break
+    return sorted(out, key=lambda t: t.low)
 
 
 def _intervals(openings, counts):
