@@ -66,6 +66,17 @@ def test_raster_and_direct_engines_agree(curve1, curve2, nx, nphi):
     np.testing.assert_array_equal(fast.crossings.values, slow.crossings.values)
 
 
+@PROPS
+@given(sesps, sesps, st.integers(9, 16), st.integers(1, 9), st.integers(8, 24))
+def test_mirrored_slices_equal_computed_slices(first, second, nx, nphi, segments):
+    """The raster engine mirrors SeSP slices past π; the direct engine computes them all."""
+    grid = Grid(nx, nx + 1, nphi=nphi)
+    kw = dict(other=second, segments=segments, crossings=True, entangled=True)
+    fast, slow = scan(first, grid, **kw), scan(first, grid, engine="direct", **kw)
+    for name in ("crossings", "allowed", "entangled"):
+        np.testing.assert_array_equal(fast[name].values, slow[name].values)
+
+
 def _counts(c1, c2, x, y, phi):
     out = np.empty(len(x), dtype=np.uint16)
     crossings_at_states(c1.vertices, c2.vertices, np.asarray(x), np.asarray(y), np.asarray(phi), 1e-9, True, out)

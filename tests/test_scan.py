@@ -22,12 +22,13 @@ CASES = [
 @pytest.mark.parametrize("case", range(len(CASES)))
 def test_raster_equals_direct_on_every_state(case, nx):
     particle, other, segments = CASES[case]
-    grid = Grid(nx, nx + 2, nphi=8)  # includes φ = 0, π/2, π, 3π/2 exactly
-    kw = dict(other=other, segments=segments, crossings=True)
-    fast = scan(particle, grid, engine="raster", **kw)
-    slow = scan(particle, grid, engine="direct", **kw)
+    grid = Grid(nx, nx + 2, nphi=8 if nx % 2 else 7)  # φ = 0, π/2, π, 3π/2 exactly; and an odd nphi
+    kw = dict(other=other, segments=segments, crossings=True, entangled=True)
+    fast = scan(particle, grid, engine="raster", **kw)  # SeSPs: slices past π mirrored
+    slow = scan(particle, grid, engine="direct", **kw)  # every slice computed
     np.testing.assert_array_equal(fast.crossings.values, slow.crossings.values)
     np.testing.assert_array_equal(fast.allowed.values, slow.allowed.values)
+    np.testing.assert_array_equal(fast.entangled.values, slow.entangled.values)
     assert fast.allowed.values.any() and not fast.allowed.values.all()
 
 

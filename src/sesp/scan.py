@@ -17,7 +17,7 @@ import xarray as xr
 from . import _kernels
 from ._version import __version__
 from .grid import Grid
-from .shape import DEFAULT_SEGMENTS, Polyline, as_polyline, check_positive, particle_attrs
+from .shape import DEFAULT_SEGMENTS, Polyline, SeSP, as_polyline, check_positive, particle_attrs
 
 __all__ = ["scan", "iter_slices", "prepare", "monte_carlo", "ENGINES", "field_sha256"]
 
@@ -113,6 +113,18 @@ class Setup:
     engine: str
     delta: float
 
+    @property
+    def mirrored(self) -> bool:
+        """Whether slices past φ = π are computed as mirror images.
+
+        SeSPs are mirror-symmetric about the x axis, and so are their
+        polylines, the grid's y coordinates and the rotations for ±φ, exactly;
+        so the state (x, y, −φ) is the state (x, −y, φ) mirrored and the raster
+        engine computes only φ in [0, π]. The direct engine computes every
+        slice and the tests compare the two.
+        """
+        return self.engine == "raster" and isinstance(self.particle, SeSP) and isinstance(self.other, SeSP)
+
     def attrs(self) -> dict:
         """Dataset attributes that reproduce this scan."""
         attrs = {"sesp_format": "sesp.scan", "sesp_format_version": 1, "sesp_version": __version__}
@@ -141,17 +153,34 @@ def iter_slices(setup: Setup, *, crossings=False, entangled=False, chunk=None, p
     """
     grid = setup.grid
     chunk = _phi_chunk(grid) if chunk is None else max(1, int(chunk))
+    stop = grid.nphi // 2 + 1 if setup.mirrored else grid.nphi
     with _progress(grid.nphi, progress, f"scan ({setup.engine})") as bar:
-        for k0 in range(0, grid.nphi, chunk):
-            k1 = min(k0 + chunk, grid.nphi)
+        for k0 in range(0, stop, chunk):
+            k1 = min(k0 + chunk, stop)
             counts = _fill_counts(setup.curve1, setup.curve2, grid, k0, k1, setup.engine, crossings, setup.delta)
             allowed = counts == 0
             tangled = None
             if entangled:
                 tangled = _fill_mutual_hulls(setup.curve1, setup.curve2, grid, k0, k1, setup.delta)
                 tangled &= allowed
-            yield Slices(k0, k1, allowed, counts if crossings else None, tangled)
-            bar.update(k1 - k0)
+            part = Slices(k0, k1, allowed, counts if crossings else None, tangled)
+            for piece in (part, _mirror(part, grid.nphi) if setup.mirrored else None):
+                if piece is not None:
+                    yield piece
+                    bar.update(piece.k1 - piece.k0)
+
+
+def _mirror(part: Slices, nphi: int) -> Slices | None:
+    """The slices at −φ of ``part``'s slices (y flipped), leaving out φ = 0 and φ = π."""
+    ks = [k for k in range(part.k0, part.k1) if k > 0 and 2 * k != nphi]
+    if not ks:
+        return None
+    pick = slice(ks[0] - part.k0, ks[-1] - part.k0 + 1)
+
+    def flip(array):
+        return None if array is None else np.ascontiguousarray(array[pick][::-1, ::-1, :])
+
+    return Slices(nphi - ks[-1], nphi - ks[0] + 1, flip(part.allowed), flip(part.crossings), flip(part.entangled))
 
 
 def scan(
