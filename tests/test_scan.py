@@ -117,3 +117,16 @@ def test_parallel_and_serial_raster_kernels_agree():
     _kernels.raster_slices_serial(*args, serial)
     np.testing.assert_array_equal(parallel, serial)
     assert parallel.any()
+
+
+@pytest.mark.parametrize("particle", [SeSP(n=2, opening=math.pi / 2), SeSP(n=8, aspect=1.4, opening=2.0), STAPLE])
+def test_raster_field_matches_shapely_intersects(particle):
+    import shapely
+
+    curve = particle if isinstance(particle, Polyline) else particle.polyline(48)
+    ds = scan(particle, Grid(57, nphi=24), segments=48)  # SeSPs take the mirrored path
+    line = shapely.LineString(curve.vertices)
+    rng = np.random.default_rng(5)
+    for k, iy, ix in zip(*(rng.integers(0, s, 500) for s in ds.allowed.shape)):
+        moved = naive.transform(curve.vertices, ds.x.values[ix], ds.y.values[iy], ds.phi.values[k])
+        assert ds.allowed.values[k, iy, ix] == (not line.intersects(shapely.LineString(moved)))
