@@ -110,6 +110,7 @@ def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
     assert ds.opening.attrs["units"] == "rad"
     np.testing.assert_allclose(ds.opening_degrees, [30, 60, 90, 120])
     assert ds.classes.attrs["flag_meanings"] == "free spooning entangled excluded"
+    assert float(ds.segments) == 24 and ds.segments.dims == ()  # fixed parameters are scalar coordinates
     ds.close()
     stamps = {p.name: p.stat().st_mtime_ns for p in _point_files(tmp_path / "out")}
     run(path, workers=1, progress=False)

@@ -158,6 +158,10 @@ class SweepSpec:
         axes = self._axes()
         return {d: list(axes[d]) for d in self.dims}
 
+    def fixed(self) -> dict:
+        """Parameters that take a single value, by name."""
+        return {k: v[0] for k, v in self._axes().items() if len(v) == 1}
+
     def points(self) -> list[dict]:
         """Every parameter point, in a stable order, each with its index and hash."""
         axes = self._axes()
@@ -439,6 +443,7 @@ def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
         "name": spec.name,
         "dims": spec.dims,
         "coords": spec.coords(),
+        "fixed": spec.fixed(),
         "points": [{"index": p["index"], "hash": p["hash"]} for p in points],
         "keep": list(spec.keep),
         "source": spec.source,
@@ -546,6 +551,11 @@ def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:
         coords[d] = (d, np.asarray(manifest["coords"][d], dtype=float), attrs)
         if d.endswith("opening"):
             coords[f"{d}_degrees"] = (d, np.degrees(manifest["coords"][d]), {"units": "degree"})
+    for name, value in manifest.get("fixed", {}).items():
+        attrs = {"units": "rad"} if name.endswith("opening") else {}
+        coords[name] = ((), value, attrs)
+        if name.endswith("opening"):
+            coords[f"{name}_degrees"] = ((), math.degrees(value), {"units": "degree"})
     for name in ("phi", "y", "x"):
         if name in first.coords:
             coords[name] = first[name]
