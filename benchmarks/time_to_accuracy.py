@@ -1,8 +1,8 @@
 """Target 3: time for the grid to reach a relative error of 1e-4 in A_ex vs Monte Carlo's time.
 
 ASP (n = 2) at Ψ = π/2, N = 256. The reference is a much finer grid
-(1024 x 1024 x 1024). The grid's time is the fastest resolution in the ladder
-whose error against the reference is below 1e-4; the error of the reference
+(1024 x 1024 x 1024). The grid's time is that of the cheapest grid of the ladder
+which, like every costlier one, is within 1e-4 of the reference; the error of the reference
 itself is estimated from its difference to the 768-grid and reported.
 Monte Carlo's time for the same error is (time per sample) × (σ / ε)²,
 with σ = A_box · sqrt(p (1 − p)) the measured per-sample spread, ε = 1e-4 · A_ex.
@@ -31,13 +31,21 @@ def main():
     grid_value(particle, 16, 4)  # compile
     reference, t_ref = grid_value(particle, 1024, 1024)
     check, _ = grid_value(particle, 768, 768)
-    rows, best = [], None
-    for nx, nphi in ((128, 128), (192, 192), (256, 256), (384, 256), (384, 384), (512, 512)):
+    rows, results = [], []
+    ladder = [(128, 128), (256, 64), (256, 128), (320, 64), (320, 128), (384, 64), (384, 128), (448, 64),
+              (448, 128), (512, 64), (512, 128), (512, 256)]
+    for nx, nphi in ladder:
         value, seconds = min((grid_value(particle, nx, nphi) for _ in range(2)), key=lambda r: r[1])
         error = abs(value / reference - 1)
         rows.append([f"grid {nx}x{nx}x{nphi}", f"{value:.6f}", f"{error:.2e}", f"{seconds:.3f}"])
-        if error < TARGET and (best is None or seconds < best[1]):
-            best = (nx, seconds)
+        results.append((seconds, error, f"{nx}x{nx}x{nphi}"))
+    # the cheapest grid that, like every costlier grid of the ladder, is within the target
+    results.sort()
+    best = None
+    for i, (seconds, _, name) in enumerate(results):
+        if all(err < TARGET for _, err, _ in results[i:]):
+            best = (name, seconds)
+            break
     samples = 200_000
     monte_carlo(particle, samples=100, seed=0)
     t_mc, mc = best_of(lambda: monte_carlo(particle, samples=samples, seed=1), repeat=1)
@@ -58,7 +66,7 @@ def main():
         print("no grid in the ladder reached 1e-4: target 3 NOT met")
         return
     ratio = t_mc_target / best[1]
-    print(f"grid reaches 1e-4 at nx={best[0]} in {best[1]:.3f} s")
+    print(f"grid reaches 1e-4 (and every costlier grid of the ladder stays there) at {best[0]} in {best[1]:.3f} s")
     print(f"target 3  time ratio MC / grid >= 1e4: {ratio:.3g}  {'met' if ratio >= 1e4 else 'NOT met'}")
 
 

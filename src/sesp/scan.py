@@ -84,10 +84,24 @@ def _fill_mutual_hulls(curve1, curve2, grid, k0, k1, delta):
     return out
 
 
+class _NoProgress:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def update(self, n=1):
+        pass
+
+
 def _progress(total: int, enabled: bool, desc: str):
+    """A tqdm bar, imported only when shown (the import costs a visible part of start-up)."""
+    if not enabled:
+        return _NoProgress()
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, disable=not enabled, unit="φ", desc=desc, leave=False)
+    return tqdm(total=total, unit="φ", desc=desc, leave=False)
 
 
 @dataclass(frozen=True)
