@@ -263,14 +263,15 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
 
 
 @njit(**_JIT)
-def _widen_rows(x1, y1, x2, y2, ys, delta, lo, hi):
+def _widen_rows(x1, y1, x2, y2, ys, inv_hy, delta, lo, hi):
     """Extend each row's [lo, hi] by where segment (x1, y1)-(x2, y2) crosses it.
 
-    Returns the range of rows touched (empty: first > last).
+    ``inv_hy`` is 1 / (ys[1] − ys[0]). Returns the range of rows touched
+    (empty: first > last).
     """
     ymin = min(y1, y2) - delta
     ymax = max(y1, y2) + delta
-    i0, i1 = _index_range(ymin - delta, ymax + delta, ys[0], 1.0 / (ys[1] - ys[0]), ys.shape[0])
+    i0, i1 = _index_range(ymin - delta, ymax + delta, ys[0], inv_hy, ys.shape[0])
     dy = y2 - y1
     first, last = ys.shape[0], -1
     for iy in range(i0, i1 + 1):
@@ -292,13 +293,14 @@ def _widen_rows(x1, y1, x2, y2, ys, delta, lo, hi):
 
 
 @njit(**_JIT)
-def _hull_rows(hull, px, py, ys, delta, lo, hi):
+def _hull_rows(hull, px, py, ys, inv_hy, delta, lo, hi):
     """Row spans of the convex polygon hull + (px, py); returns the rows touched."""
     nh = hull.shape[0]
     first, last = ys.shape[0], -1
     for v in range(nh):
         w = (v + 1) % nh
-        f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[w, 0] + px, hull[w, 1] + py, ys, delta, lo, hi)
+        f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[w, 0] + px, hull[w, 1] + py,
+                            ys, inv_hy, delta, lo, hi)
         first, last = min(first, f), max(last, l_)
     return first, last
 
@@ -330,20 +332,21 @@ def swept_hull_cover(hull, path, xs, ys, delta, diff):
     """
     ny = ys.shape[0]
     inv_hx = 1.0 / (xs[1] - xs[0])
+    inv_hy = 1.0 / (ys[1] - ys[0])
     lo_a, hi_a = np.full(ny, np.inf), np.full(ny, -np.inf)
     lo_b, hi_b = np.full(ny, np.inf), np.full(ny, -np.inf)
     lo, hi = np.full(ny, np.inf), np.full(ny, -np.inf)
-    a0, a1 = _hull_rows(hull, path[0, 0], path[0, 1], ys, delta, lo_a, hi_a)
+    a0, a1 = _hull_rows(hull, path[0, 0], path[0, 1], ys, inv_hy, delta, lo_a, hi_a)
     for k in range(path.shape[0] - 1):
         px, py, qx, qy = path[k, 0], path[k, 1], path[k + 1, 0], path[k + 1, 1]
-        b0, b1 = _hull_rows(hull, qx, qy, ys, delta, lo_b, hi_b)
+        b0, b1 = _hull_rows(hull, qx, qy, ys, inv_hy, delta, lo_b, hi_b)
         r0, r1 = min(a0, b0), max(a1, b1)
         for iy in range(r0, r1 + 1):
             lo[iy] = min(lo_a[iy], lo_b[iy])
             hi[iy] = max(hi_a[iy], hi_b[iy])
         for v in _tangent_vertices(hull, qx - px, qy - py):
             f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[v, 0] + qx, hull[v, 1] + qy,
-                                ys, delta, lo, hi)
+                                ys, inv_hy, delta, lo, hi)
             r0, r1 = min(r0, f), max(r1, l_)
         for iy in range(r0, r1 + 1):
             if lo[iy] <= hi[iy]:
