@@ -71,7 +71,7 @@ def main():
         rates[nx] = grid.states / t_allowed
         rows.append([f"scan raster {nx}x{nx}x{grid.nphi}", grid.states, f"{t_allowed:.3f}",
                      f"{rates[nx] / 1e6:.1f}", f"{t_both / t_allowed:.2f}", "", "", ""])
-        rows.append([f"  kernel, every slice", grid.states, f"{t_kernel:.3f}", f"{grid.states / t_kernel / 1e6:.1f}",
+        rows.append(["  kernel, every slice", grid.states, f"{t_kernel:.3f}", f"{grid.states / t_kernel / 1e6:.1f}",
                      "", f"{setups}", f"{nodes}", f"{per_op:.1f}"])
         if nx == 256:
             k = args.phi_direct

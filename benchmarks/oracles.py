@@ -2,7 +2,7 @@
 
     python benchmarks/oracles.py
 """
-import math, numpy as np, sesp
+import math, numpy as np
 from sesp import Grid, SeSP, Polyline, scan, excluded_area, convex_excluded_area, kinematic_integral, monte_carlo
 needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
 for nx in (512, 511):

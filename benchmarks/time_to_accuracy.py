@@ -14,7 +14,7 @@ import math
 import time
 
 from _common import best_of, machine, table
-from sesp import Grid, SeSP, excluded_area, monte_carlo
+from sesp import Grid, SeSP, monte_carlo
 from sesp.regions import summarize
 
 TARGET = 1e-4

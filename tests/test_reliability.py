@@ -10,9 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
-import xarray as xr
 
 from sesp import Grid, SeSP, SespFileError, load, save, scan
 from sesp.cli import main

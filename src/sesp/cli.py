@@ -220,7 +220,7 @@ def _cmd_plot(args) -> int:
             plot.allowed_map(ds, style=args.style, ax=ax)
         else:
             kind = {"maps": "maps" if args.style == "dots" else "maps_raster"}.get(args.kind, args.kind)
-            fig = plot._figure(kind, ds)
+            fig = plot.figure(kind, ds)
     fig.savefig(args.output, dpi=110)
     plt.close(fig)
     print(f"wrote {args.output}")

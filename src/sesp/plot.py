@@ -23,6 +23,7 @@ __all__ = [
     "topology_plot",
     "map_grid",
     "render_figures",
+    "figure",
 ]
 
 PHI_CMAP = "twilight"
@@ -334,14 +335,19 @@ def render_figures(results, out) -> list:
         if source is not None and not source.is_file():
             continue
         ds = None if source is None else xr.load_dataset(source)
-        fig = _figure(kind, ds)
+        fig = figure(kind, ds)
         fig.savefig(out / name, dpi=110)
         plt.close(fig)
         written.append(out / name)
     return written
 
 
-def _figure(kind, ds):
+def figure(kind: str, ds: xr.Dataset | None = None):
+    """One of the paper's figures as a matplotlib Figure.
+
+    ``kind`` is "gallery", "maps" (dots), "maps_raster", "curve", "panels" or
+    "topology"; ``ds`` is the matching collected sweep (not for "gallery").
+    """
     if kind == "gallery":
         return shape_gallery()
     if kind in ("maps", "maps_raster"):

@@ -77,10 +77,8 @@ class _Accumulator:
             "orientation_order": (dims, strength, {"units": "1", "long_name": "mean resultant length of allowed φ"}),
             "excluded_area": (("phi",), self.excluded_per_phi * cell, {"units": "b^2", "long_name": "A_ex(φ)"}),
         }
-        if self.tangled is not None:
-            data["classes"] = (dims, self.classes(), _flag_attrs())
-        else:
-            data["classes"] = (dims, self.classes(), {**_flag_attrs(), "comment": "entangled not computed"})
+        flags = _flag_attrs() if self.tangled is not None else {**_flag_attrs(), "comment": "entangled not computed"}
+        data["classes"] = (dims, self.classes(), flags)
         coords = {"y": ("y", y, {"units": "b"}), "x": ("x", x, {"units": "b"}), "phi": ("phi", self.phi, {"units": "rad"})}
         summary_attrs = {k: v for k, v in attrs.items() if k != "allowed_sha256"}
         summary_attrs["sesp_format"] = "sesp.summary"

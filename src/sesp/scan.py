@@ -7,7 +7,6 @@ paper's method (random placements), kept as a baseline and cross-check.
 from __future__ import annotations
 
 import hashlib
-import logging
 import math
 from dataclasses import dataclass
 
@@ -20,8 +19,6 @@ from .grid import Grid
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP, as_polyline, check_positive, particle_attrs
 
 __all__ = ["scan", "iter_slices", "prepare", "monte_carlo", "ENGINES", "field_sha256"]
-
-log = logging.getLogger(__name__)
 
 ENGINES = ("raster", "direct")
 
@@ -46,12 +43,6 @@ def _check_engine(engine: str) -> str:
     if engine not in ENGINES:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
     return engine
-
-
-def _curves(particle, other, segments):
-    curve1 = as_polyline(particle, segments)
-    curve2 = curve1 if other is None else as_polyline(other, segments)
-    return curve1, curve2
 
 
 def _phi_chunk(grid: Grid) -> int:
@@ -153,7 +144,8 @@ class Setup:
 def prepare(particle, grid=None, *, other=None, segments=DEFAULT_SEGMENTS, engine="raster") -> Setup:
     """Check a scan request and build its polylines and grid, before any heavy work."""
     engine = _check_engine(engine)
-    curve1, curve2 = _curves(particle, other, segments)
+    curve1 = as_polyline(particle, segments)
+    curve2 = curve1 if other is None else as_polyline(other, segments)
     reach = curve1.max_radius + curve2.max_radius
     grid = (grid if grid is not None else Grid()).resolve(reach)
     other = particle if other is None else other
