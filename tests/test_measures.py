@@ -16,7 +16,9 @@ from sesp import (
     monte_carlo,
     normalized_excluded_area,
     scan,
+    shifted_excluded_area,
 )
+from sesp.measures import lattice_shifts
 from test_kernels import ZED
 
 
@@ -100,3 +102,54 @@ def test_excluded_area_rejects_unknown_by():
     ds = scan(SeSP(), Grid(8, nphi=2), segments=8)
     with pytest.raises(ValueError, match="by"):
         excluded_area(ds, by="x")
+
+
+@pytest.mark.parametrize("n", [2, 4, 8])
+def test_shifted_lattices_meet_the_closed_convex_formula(n):
+    particle = SeSP(n=n)
+    exact = convex_excluded_area(particle.polyline(128))
+    shifted = shifted_excluded_area(particle, Grid(128, nphi=64), segments=128)
+    assert float(shifted.mean()) == pytest.approx(exact, rel=5e-4)
+    assert shifted.attrs["units"] == "b^2" and shifted.attrs["error_estimate"] > 0
+
+
+def test_shifted_lattices_remove_the_bias_of_the_fixed_lattice():
+    """Two circles exclude the disk |t| <= 2 at every φ: one lattice miscounts it the same way each time."""
+    particle, grid = SeSP(n=2), Grid(128, nphi=64)
+    exact = convex_excluded_area(particle.polyline(128))
+    fixed = abs(excluded_area(scan(particle, grid, segments=128)) / exact - 1)
+    moved = abs(float(shifted_excluded_area(particle, grid, segments=128).mean()) / exact - 1)
+    assert moved < fixed / 10
+
+
+def test_shifted_lattices_give_needles_l_squared_sin_phi():
+    needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
+    for nx in (256, 255):
+        area = shifted_excluded_area(needle, Grid(nx, nphi=16))
+        exact = 4.0 * np.abs(np.sin(area.phi.values))
+        generic = np.abs(np.sin(area.phi.values)) > 0.3
+        np.testing.assert_allclose(area.values[generic], exact[generic], rtol=2e-2)
+        h = float(area.attrs["half_width"]) * 2 / nx
+        assert np.all(area.values[~generic & (exact < 1e-9)] <= 2 * 2.0 * h + 1e-12)
+
+
+def test_shifted_mirror_slices_equal_computed_slices():
+    """SeSPs compute φ in [0, π] and mirror the rest; a Polyline computes every slice."""
+    particle = SeSP(n=4, opening=1.3)
+    for nphi in (16, 15):
+        mirrored = shifted_excluded_area(particle, Grid(48, nphi=nphi), segments=40)
+        computed = shifted_excluded_area(particle.polyline(40), Grid(48, nphi=nphi))
+        np.testing.assert_array_equal(mirrored.values, computed.values)
+
+
+def test_lattice_shifts_are_within_a_cell_and_mirror_pairwise():
+    shifts = lattice_shifts(10)
+    assert np.all(np.abs(shifts) <= 0.5) and np.all(shifts[0] == 0)
+    for k in range(1, 5):  # φ_(10 - k) = −φ_k takes the y-mirror of φ_k's shift
+        np.testing.assert_array_equal(shifts[10 - k], shifts[k] * [1, -1])
+    assert len(np.unique(shifts[:6], axis=0)) == 6
+
+
+def test_shifted_excluded_area_refuses_a_box_too_small():
+    with pytest.raises(ValueError, match="half a cell"):
+        shifted_excluded_area(SeSP(), Grid(32, nphi=4, half_width=2.0), segments=16)

@@ -16,6 +16,7 @@ from .measures import (
     excluded_area_error,
     kinematic_integral,
     normalized_excluded_area,
+    shifted_excluded_area,
 )
 from .scan import ENGINES, monte_carlo, scan
 from .shape import Polyline, SeSP
@@ -30,6 +31,7 @@ __all__ = [
     "ENGINES",
     "excluded_area",
     "excluded_area_error",
+    "shifted_excluded_area",
     "normalized_excluded_area",
     "closed_excluded_area",
     "convex_excluded_area",

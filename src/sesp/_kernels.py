@@ -239,6 +239,20 @@ def raster_slices_serial(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
 
 
 @njit(**_JIT, parallel=True)
+def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out):
+    """``out[k]`` = overlapping nodes at φ_k on the lattice moved by ``shifts[k]``.
+
+    Counts only: each thread rasterises one slice into its own scratch array.
+    """
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for k in prange(cos_phi.shape[0]):
+        field = np.zeros((ys.shape[0], xs.shape[0]), dtype=np.uint16)
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs + shifts[k, 0], ys + shifts[k, 1], delta, False, field)
+        out[k] = np.count_nonzero(field)
+
+
+@njit(**_JIT, parallel=True)
 def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
     """Direct test at arbitrary states (xs[s], ys[s], phis[s]): the Monte-Carlo path."""
     dlen = np.empty(v1.shape[0] - 1)
