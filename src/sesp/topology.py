@@ -24,7 +24,16 @@ s < ``ratio`` · p, and merges otherwise. Components whose peak is below
 * a component thinner than about ``2 · min_peak`` nodes is not resolved, so
   one that is born thin (an island appearing from a point) is first seen at
   slightly different Ψ on different grids; :func:`find_transitions` reports
-  brackets at two resolutions so the convergence is visible.
+  brackets at two resolutions so the convergence is visible, and flags a
+  transition as grid-limited (``Transition.resolved`` False) when a component
+  at either end of its bracket is thinner than ``RESOLVED_PEAK`` nodes. A
+  component that shrinks continuously to nothing (the ASP's island as Ψ → π)
+  is always lost this way: its bracket is where the grid stops seeing it,
+  which moves with h (for the ASP, toward the exact Ψ = π as h shrinks);
+* a pinch behind an allowed wedge of small angle Ψ is a junction about h/Ψ
+  nodes across, so a split as Ψ → 0⁺ is seen once the wedge is resolved,
+  at a Ψ that depends on the grid even though both bodies are thick (n = 8:
+  3.75°–5° on 256², 0°–1.25° on 257²; ``benchmarks/topology_parity.py``).
 
 φ is periodic: a component that wraps through φ = 0 is one component.
 """
@@ -47,6 +56,10 @@ __all__ = ["Components", "components", "excluded_components", "state_components"
 
 QUANTITIES = ("excluded", "allowed", "entangled")
 
+# Inscribed radius, in node spacings, below which a component is near the
+# grid's reach: twice the default ``min_peak`` of :func:`components`.
+RESOLVED_PEAK = 4.0
+
 
 @dataclass(frozen=True)
 class Components:
@@ -64,12 +77,16 @@ class Components:
         Area (b²) or hypervolume (b²·rad) of one node.
     unassigned : int
         Nodes of the set in no component (parts too thin to count).
+    peaks : (count,) ndarray
+        Inscribed radius of each component, in node spacings (the largest
+        distance from one of its nodes to the set's complement).
     """
 
     labels: np.ndarray
     sizes: np.ndarray
     measure: float
     unassigned: int
+    peaks: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def count(self) -> int:
@@ -136,11 +153,11 @@ def components(mask, *, periodic=(), outside: bool = False, measure: float = 1.0
     shape = np.array((1,) * (3 - mask.ndim) + mask.shape, dtype=np.int64)
     labels = np.zeros(mask.size, dtype=np.int64)
     _kernels.persistent_components(dist, order, shape, bool(periodic), float(ratio), float(min_peak), labels)
-    return _renumber(labels.reshape(mask.shape), mask, measure)
+    return _renumber(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape))
 
 
-def _renumber(labels, mask, measure) -> Components:
-    """Components numbered by decreasing size."""
+def _renumber(labels, mask, measure, dist) -> Components:
+    """Components numbered by decreasing size, with their inscribed radii."""
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
     keep = np.flatnonzero(sizes > 0)
@@ -148,7 +165,9 @@ def _renumber(labels, mask, measure) -> Components:
     mapping = np.zeros(len(sizes), dtype=np.int32)
     mapping[keep] = np.arange(1, len(keep) + 1, dtype=np.int32)
     new = mapping[labels]
-    return Components(new, sizes[keep], float(measure), int(np.count_nonzero(mask) - np.count_nonzero(new)))
+    peaks = np.asarray(ndimage.maximum(dist, new, np.arange(1, len(keep) + 1)), dtype=float).reshape(-1)
+    unassigned = int(np.count_nonzero(mask) - np.count_nonzero(new))
+    return Components(new, sizes[keep], float(measure), unassigned, peaks)
 
 
 def _cell_area(ds) -> float:
@@ -203,19 +222,44 @@ def _count(make, opening, quantity, grid, segments) -> Components:
     return state_components(ds, quantity)
 
 
+def _thinnest(found: Components) -> float:
+    """Smallest inscribed radius (node spacings) of the counted components; inf if none."""
+    return float(found.peaks.min()) if found.count else math.inf
+
+
+def _state(found: Components) -> tuple:
+    """What a transition search keeps of a count: (count, thinnest component)."""
+    return found.count, _thinnest(found)
+
+
 @dataclass
 class Transition:
-    """A change of the component count between two openings (radians)."""
+    """A change of the component count between two openings (radians).
+
+    ``thinnest`` is the smallest inscribed radius, in node spacings, of the
+    components counted at either end of the bracket. Below ``RESOLVED_PEAK``
+    the change may be the grid losing (or first seeing) a thin component
+    rather than the component vanishing (or appearing): such a bracket moves
+    with resolution, and ``resolved`` is False. ``resolved`` says nothing
+    about the necks: a split at a pinch that the grid resolves late (an
+    allowed wedge of small angle) can still differ between grids with thick
+    components on both sides.
+    """
 
     low: float
     high: float
     count_low: int
     count_high: int
     resolution: tuple = ()
+    thinnest: float = math.inf
 
     @property
     def opening(self) -> float:
         return 0.5 * (self.low + self.high)
+
+    @property
+    def resolved(self) -> bool:
+        return self.thinnest >= RESOLVED_PEAK
 
 
 @dataclass
@@ -227,6 +271,13 @@ class TopologyResult:
     counts: np.ndarray
     areas: list
     transitions: dict = field(default_factory=dict)  # resolution -> [Transition]
+    thinnest: np.ndarray | None = None  # per opening, node spacings
+
+
+def _profile(make, openings, quantity, grid, segments, progress) -> list:
+    from tqdm.auto import tqdm
+
+    return [_count(make, o, quantity, grid, segments) for o in tqdm(openings, disable=not progress, desc="Ψ")]
 
 
 def topology_profile(family, openings, *, quantity="excluded", grid: Grid | None = None,
@@ -234,30 +285,31 @@ def topology_profile(family, openings, *, quantity="excluded", grid: Grid | None
     """Component counts and areas at each opening in ``openings`` (radians)."""
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
-    from tqdm.auto import tqdm
-
-    make = _family(family)
     grid = grid if grid is not None else Grid(256, nphi=256)
-    found = [_count(make, o, quantity, grid, segments) for o in tqdm(openings, disable=not progress, desc="Ψ")]
+    found = _profile(_family(family), openings, quantity, grid, segments, progress)
     return np.array([c.count for c in found]), [c.areas for c in found]
 
 
-def _refine(make, low, high, c_low, c_high, quantity, grid, segments, tolerance, cache):
+def _counter(make, quantity, grid, segments, cache):
+    """opening -> (count, thinnest component), computed once per opening."""
+
+    def state(opening):
+        if opening not in cache:
+            cache[opening] = _state(_count(make, opening, quantity, grid, segments))
+        return cache[opening]
+
+    return state
+
+
+def _refine(state, low, high, tolerance, resolution):
     """Bisect [low, high] to brackets no wider than 2·tolerance around each change."""
-
-    def count(o):
-        if o not in cache:
-            cache[o] = _count(make, o, quantity, grid, segments).count
-        return cache[o]
-
+    (c_low, t_low), (c_high, t_high) = state(low), state(high)
     if c_low == c_high:
         return []
     if high - low <= 2 * tolerance:
-        return [Transition(low, high, c_low, c_high, (grid.nx, grid.ny, grid.nphi))]
+        return [Transition(low, high, c_low, c_high, resolution, min(t_low, t_high))]
     mid = 0.5 * (low + high)
-    c_mid = count(mid)
-    return (_refine(make, low, mid, c_low, c_mid, quantity, grid, segments, tolerance, cache)
-            + _refine(make, mid, high, c_mid, c_high, quantity, grid, segments, tolerance, cache))
+    return _refine(state, low, mid, tolerance, resolution) + _refine(state, mid, high, tolerance, resolution)
 
 
 def find_transitions(
@@ -278,7 +330,10 @@ def find_transitions(
     steps where the count changes and bisects each to a bracket of at most
     ``2 · tolerance`` (radians). The brackets are then re-bisected on a grid
     ``refine_factor`` times finer in x, y and φ, so the user can see whether
-    they converge.
+    they converge. Each transition says whether it is resolved: a component
+    thinner than ``RESOLVED_PEAK`` node spacings at either end of the bracket
+    means the grid may be losing a component that still exists (or first
+    seeing one born earlier); such brackets move with resolution.
 
     Parameters
     ----------
@@ -303,14 +358,16 @@ def find_transitions(
     grid = grid if grid is not None else Grid(256, nphi=256)
     openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
     openings = openings[openings < 2 * math.pi]
-    counts, areas = topology_profile(make, openings, quantity=quantity, grid=grid, segments=segments,
-                                     progress=progress)
-    result = TopologyResult(quantity, openings, counts, areas)
-    cache = dict(zip(openings.tolist(), counts.tolist()))
+    found = _profile(make, openings, quantity, grid, segments, progress)
+    result = TopologyResult(quantity, openings, np.array([c.count for c in found]), [c.areas for c in found],
+                            thinnest=np.array([_thinnest(c) for c in found]))
+    cache = {o: _state(c) for o, c in zip(openings.tolist(), found)}
+    state = _counter(make, quantity, grid, segments, cache)
+    resolution = (grid.nx, grid.ny, grid.nphi)
     coarse = []
-    for a, b, ca, cb in zip(openings[:-1], openings[1:], counts[:-1], counts[1:]):
-        coarse += _refine(make, a, b, int(ca), int(cb), quantity, grid, segments, tolerance, cache)
-    result.transitions[(grid.nx, grid.ny, grid.nphi)] = coarse
+    for a, b in zip(openings[:-1], openings[1:]):
+        coarse += _refine(state, float(a), float(b), tolerance, resolution)
+    result.transitions[resolution] = coarse
     if refine_factor > 1:
         fine = Grid(grid.nx * refine_factor, grid.ny * refine_factor, grid.nphi * refine_factor)
         result.transitions[(fine.nx, fine.ny, fine.nphi)] = _rebracket(
@@ -337,20 +394,14 @@ def _rebracket(make, coarse, quantity, grid, segments, step, tolerance):
     (2, then 4 steps) while the counts at the window's ends are equal, so a
     transition that moved with resolution is followed, not lost.
     """
-    cache = {}
-
-    def count(o):
-        if o not in cache:
-            cache[o] = _count(make, o, quantity, grid, segments).count
-        return cache[o]
-
+    state = _counter(make, quantity, grid, segments, {})
+    resolution = (grid.nx, grid.ny, grid.nphi)
     out = []
     for factor in (1, 2, 4):
         pending = [t for t in coarse if not any(f.low <= t.high + factor * step and f.high >= t.low - factor * step
                                                  for f in out)]
         for low, high in _windows(pending, step, factor):
-            if count(low) != count(high):
-                out += _refine(make, low, high, count(low), count(high), quantity, grid, segments, tolerance, cache)
+            out += _refine(state, low, high, tolerance, resolution)
         if len(out) >= len(coarse):
             break
     return sorted(out, key=lambda t: t.low)
@@ -373,10 +424,17 @@ def format_result(result: TopologyResult, family=None) -> str:
     if family is not None:
         lines.append(f"family: {family}")
     lines.append(f"{result.quantity} components over the opening (first pass; degrees)")
-    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6}  areas at middle sample ({unit})")
+    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6} {'thinnest':>9}  areas at middle sample ({unit})")
+    thinnest = result.thinnest if result.thinnest is not None else np.full(len(result.openings), math.inf)
     for a, b, count, mid in _intervals(result.openings, result.counts):
         areas = ", ".join(f"{v:.4g}" for v in result.areas[mid]) or "-"
-        lines.append(f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d}  {areas}   (at {math.degrees(result.openings[mid]):.1f})")
+        run = (result.openings >= a) & (result.openings <= b)
+        thin = float(thinnest[run].min())
+        thin = "-" if math.isinf(thin) else f"{thin:.1f}"
+        lines.append(f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d} {thin:>9}  {areas}"
+                     f"   (at {math.degrees(result.openings[mid]):.1f})")
+    lines.append(f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
+                 f" below {RESOLVED_PEAK:g} the count is near the grid's reach)")
     for res, transitions in result.transitions.items():
         lines.append(f"transitions on grid nx={res[0]} ny={res[1]} nphi={res[2]} (radians; degrees):")
         if not transitions:
@@ -386,5 +444,6 @@ def format_result(result: TopologyResult, family=None) -> str:
                 f"  * {t.count_low} -> {t.count_high} at Psi in [{t.low:.4f}, {t.high:.4f}] rad"
                 f" = {t.opening:.4f} +- {0.5 * (t.high - t.low):.4f}"
                 f"  ({math.degrees(t.low):.2f} to {math.degrees(t.high):.2f} deg)"
+                + ("" if t.resolved else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]")
             )
     return "\n".join(lines)
