@@ -12,6 +12,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from . import _kernels
 from .grid import Grid
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP, particle_from_attrs
 
@@ -153,7 +154,6 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         average A_ex. Attribute ``error_estimate`` (b²) is half the difference
         between the averages over even and odd k: an indication, not a bound.
     """
-    from . import _kernels
     from .scan import prepare
 
     setup = prepare(particle, grid, other=other, segments=segments)

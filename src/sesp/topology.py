@@ -86,7 +86,7 @@ class Components:
     sizes: np.ndarray
     measure: float
     unassigned: int
-    peaks: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    peaks: np.ndarray
 
     @property
     def count(self) -> int:
