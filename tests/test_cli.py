@@ -40,3 +40,14 @@ def test_errors_are_one_line_without_traceback(argv, word, tmp_path, capsys, mon
 def test_python_dash_m_works(tmp_path):
     result = subprocess.run([sys.executable, "-m", "sesp", "--help"], capture_output=True, text=True)
     assert result.returncode == 0 and "scan" in result.stdout
+
+
+def test_topology_report_with_the_axis_count(capsys):
+    assert main(["-q", "topology", "--n", "2", "--opening-range", "150", "190", "--step", "20", "--nx", "24",
+                 "--nphi", "16", "--segments", "64", "--refine", "1", "--axis", "64"]) == 0
+    text = capsys.readouterr().out
+    axis = text[text.index("excluded (axis)"):]
+    assert "transitions on 64 axis nodes, exact in phi" in axis
+    assert "2 -> 0 at Psi" in axis  # island and body end together, at π
+    assert main(["topology", "--axis", "4"]) == 2
+    assert "--axis" in capsys.readouterr().err

@@ -6,8 +6,8 @@ import shapely
 import xarray as xr
 
 import naive
-from sesp import Grid, SeSP, scan
-from sesp.regions import CLASSES, classify, position_summary, summarize
+from sesp import Grid, Polyline, SeSP, scan
+from sesp.regions import CLASSES, allowed_orientations, blocked_orientations, classify, position_summary, summarize
 from test_kernels import ZED
 
 
@@ -121,3 +121,41 @@ def test_asp_excluded_positions_match_exact_geometry(degrees):
         assert np.count_nonzero(exact & far) > 20  # the comparison is not vacuous
     if degrees > 180:
         assert not got.any()  # no excluded position at all for Ψ > π
+
+
+# --- orientations exact in φ ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("other", [None, SeSP(n=4, m=2, aspect=0.7, opening=2.0)])
+def test_blocked_orientations_contain_exactly_the_overlapping_sampled_states(other):
+    """Every state of a direct scan is blocked exactly when its φ lies in a blocked interval."""
+    particle = SeSP(n=4, opening=math.radians(100))
+    ds = scan(particle, Grid(12, nphi=24), other=other, segments=24, engine="direct")
+    disagree = 0
+    for iy, y in enumerate(ds.y.values):
+        for ix, x in enumerate(ds.x.values):
+            spans = blocked_orientations(particle, x, y, other=other, segments=24)
+            phi = ds.phi.values[:, None]
+            blocked = ((spans[:, 0] <= phi + 1e-12) & (phi <= spans[:, 1] + 1e-12)).any(axis=1)
+            disagree += int(np.count_nonzero(blocked == ds.allowed.values[:, iy, ix]))
+    assert disagree == 0
+
+
+@pytest.mark.parametrize("offset", [0.05, 0.2, 0.37, 0.49])
+def test_allowed_orientations_of_crossed_needles_are_exact(offset):
+    """Needle 2 centred at (0, y) on needle 1's bisector meets it iff |sin φ| >= 2y/ℓ: allowed 4·asin(2y/ℓ)."""
+    needle = Polyline([[-0.5, 0.0], [0.5, 0.0]])
+    allowed = allowed_orientations(needle, 0.0, offset)
+    assert allowed == pytest.approx(4 * math.asin(2 * offset), abs=1e-12)
+
+
+def test_exact_allowed_measure_is_near_the_sampled_fraction_and_misses_no_allowed_state():
+    """Exact measures sit within one orientation step of a scan's allowed fraction; positions allowed at a
+    sampled φ are never excluded exactly."""
+    particle = SeSP(n=2, opening=math.radians(120))
+    ds = scan(particle, Grid(16, nphi=64), segments=32)
+    x, y = np.meshgrid(ds.x.values, ds.y.values)
+    exact = allowed_orientations(particle, x, y, segments=32)
+    sampled = ds.allowed.values.mean(axis=0) * 2 * math.pi
+    assert np.abs(exact - sampled).max() <= 2 * math.pi / 64 + 1e-9
+    assert not np.any((exact == 0) & (sampled > 0))

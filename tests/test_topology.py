@@ -5,7 +5,8 @@ import pytest
 
 from sesp import Grid, SeSP, scan
 from sesp.regions import summarize
-from sesp.topology import RESOLVED_PEAK, components, excluded_components, find_transitions, format_result, state_components
+from sesp.topology import (RESOLVED_PEAK, _axis_persistence, axis_profile, components, excluded_components,
+                           find_transitions, format_result, state_components)
 
 
 def _disk(n, cx, cy, r):
@@ -158,3 +159,39 @@ def test_component_peaks_are_inscribed_radii():
     np.testing.assert_allclose(found.peaks, [16, 7], atol=1.0)  # radius + 1 to the first outside node
     with pytest.raises(ValueError, match="quantity"):
         find_transitions(SeSP(), "holes")
+
+
+# --- the symmetry axis, exact in φ ------------------------------------------------------
+
+
+def test_axis_persistence_splits_at_narrow_necks_only():
+    x = np.arange(12.0)
+    w = np.array([0, 1, 2, 3, 2, 0.5, 2, 3, 3, 1, 0, 0])
+    assert [c[:2] for c in _axis_persistence(x, w, 0.5, 2)] == [(1.0, 5.0), (6.0, 9.0)]
+    w[5] = 1.6  # a neck wider than half the smaller peak
+    assert [c[:2] for c in _axis_persistence(x, w, 0.5, 2)] == [(1.0, 9.0)]
+    w = np.array([0, 1, 0, 0, 2, 3, 0, 5e-10, 0, 0, 0, 0])  # a lone node and a sub-floor blip do not count
+    assert [c[:2] for c in _axis_persistence(x, w, 0.5, 2)] == [(4.0, 5.0)]
+
+
+def test_asp_axis_profile_is_the_body_and_the_exact_lens():
+    """ASP at Ψ = 150°: the island's axis section is (0, 2cos(Ψ/2)) and its half-thickness 1 − sin(Ψ/2)."""
+    psi = math.radians(150)
+    profile = axis_profile(SeSP(n=2, opening=psi), nodes=128)
+    h = profile.x[1] - profile.x[0]
+    body, island = profile.components()
+    assert abs(body[1]) < h and body[1] < island[0] < 2 * h  # they meet at the centre (a neck node joins the body)
+    assert island[1] == pytest.approx(2 * math.cos(psi / 2), abs=h)
+    assert island[2] == pytest.approx(1 - math.sin(psi / 2), rel=0.02)
+
+
+@pytest.mark.parametrize("delta, count", [(-0.05, 2), (0.02, 0)])
+def test_asp_island_and_body_are_followed_to_their_end_at_pi(delta, count):
+    """2 components (island ~3e-4 b thick, ~100 times below a 128-node spacing) just below π, none above."""
+    profile = axis_profile(SeSP(n=2, opening=math.pi + delta), nodes=128)
+    assert len(profile.components()) == count
+
+
+def test_axis_profile_needs_a_symmetric_sesp():
+    with pytest.raises(TypeError, match="SeSP"):
+        axis_profile(SeSP(n=2).polyline(16))

@@ -129,16 +129,21 @@ def _add_topology(sub):
     p.add_argument("--nphi", type=int, default=1024, help="orientations (default 1024)")
     p.add_argument("--tolerance", type=float, default=0.02, help="bracket half-width, radians (default 0.02)")
     p.add_argument("--refine", type=int, default=2, help="second resolution = this times the first (1: none)")
+    p.add_argument("--axis", type=int, default=None, metavar="NODES",
+                   help="also count the excluded set's components along the symmetry axis, exact in φ, "
+                        "on NODES axis nodes (follows thin components the grid loses; slower)")
     p.set_defaults(func=_cmd_topology)
 
 
 def _cmd_topology(args) -> int:
     from .grid import Grid
-    from .topology import find_transitions, format_result
+    from .topology import axis_transitions, find_transitions, format_result
 
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
         raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
+    if args.axis is not None and args.axis < 16:
+        raise ValueError(f"--axis must be an integer >= 16 (axis nodes), got {args.axis}")
     family = _shape_from_args(args, 0.0)
     _announce_compile()
     result = find_transitions(
@@ -147,6 +152,12 @@ def _cmd_topology(args) -> int:
         refine_factor=args.refine, progress=not args.quiet,
     )
     print(format_result(result, family))
+    if args.axis is not None:
+        axis = axis_transitions(family, (math.radians(lo), math.radians(hi)), nodes=args.axis,
+                                segments=args.segments, step=math.radians(args.step), tolerance=args.tolerance,
+                                progress=not args.quiet)
+        print()
+        print(format_result(axis))
     return 0
 
 

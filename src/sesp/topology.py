@@ -36,6 +36,18 @@ s < ``ratio`` · p, and merges otherwise. Components whose peak is below
   3.75°–5° on 256², 0°–1.25° on 257²; ``benchmarks/topology_parity.py``).
 
 φ is periodic: a component that wraps through φ = 0 is one component.
+
+Following thin components: the symmetry axis
+--------------------------------------------
+For a SeSP with itself the pair is mirror-symmetric about the x axis, and
+every component that is its own mirror image meets the axis. Along the axis,
+:func:`axis_profile` measures the excluded set's half-thickness exactly in φ
+(:func:`sesp.regions.allowed_orientations`, no orientation grid) and in y
+down to 1e-9 b, and :func:`axis_transitions` counts its persistent components
+over Ψ. That count follows components thinner than any grid's node, such as
+the ASP's island, 1 − sin(Ψ/2) thick, to their end; it does not see
+components that come in mirror pairs off the axis, which only the grid count
+does.
 """
 
 from __future__ import annotations
@@ -52,7 +64,7 @@ from .grid import Grid
 from .shape import DEFAULT_SEGMENTS, SeSP
 
 __all__ = ["Components", "components", "excluded_components", "state_components", "find_transitions",
-           "topology_profile", "format_result", "QUANTITIES"]
+           "topology_profile", "format_result", "QUANTITIES", "AxisProfile", "axis_profile", "axis_transitions"]
 
 QUANTITIES = ("excluded", "allowed", "entangled")
 
@@ -312,6 +324,15 @@ def _refine(state, low, high, tolerance, resolution):
     return _refine(state, low, mid, tolerance, resolution) + _refine(state, mid, high, tolerance, resolution)
 
 
+def _openings(opening_range, step, tolerance):
+    """The first pass's openings: ``step`` apart from the range's start, below 2π; checked."""
+    lo, hi = (float(v) for v in opening_range)
+    if not (0 <= lo < hi) or step <= 0 or tolerance <= 0:
+        raise ValueError(f"opening_range must satisfy 0 <= low < high and step, tolerance > 0, got {opening_range}")
+    openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
+    return openings[openings < 2 * math.pi]
+
+
 def find_transitions(
     family,
     quantity: str = "excluded",
@@ -351,13 +372,9 @@ def find_transitions(
     """
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
-    lo, hi = (float(v) for v in opening_range)
-    if not (0 <= lo < hi) or step <= 0 or tolerance <= 0:
-        raise ValueError(f"opening_range must satisfy 0 <= low < high and step, tolerance > 0, got {opening_range}")
+    openings = _openings(opening_range, step, tolerance)
     make = _family(family)
     grid = grid if grid is not None else Grid(256, nphi=256)
-    openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
-    openings = openings[openings < 2 * math.pi]
     found = _profile(make, openings, quantity, grid, segments, progress)
     result = TopologyResult(quantity, openings, np.array([c.count for c in found]), [c.areas for c in found],
                             thinnest=np.array([_thinnest(c) for c in found]))
@@ -419,12 +436,14 @@ def _intervals(openings, counts):
 
 def format_result(result: TopologyResult, family=None) -> str:
     """A plain-text report: Ψ intervals with counts and areas, then the transitions."""
+    axis = result.quantity.endswith("(axis)")
     unit = "b^2" if result.quantity == "excluded" else "b^2 rad"
+    measured = "peak half-thickness at middle sample (b)" if axis else f"areas at middle sample ({unit})"
     lines = []
     if family is not None:
         lines.append(f"family: {family}")
     lines.append(f"{result.quantity} components over the opening (first pass; degrees)")
-    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6} {'thinnest':>9}  areas at middle sample ({unit})")
+    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6} {'shortest' if axis else 'thinnest':>9}  {measured}")
     thinnest = result.thinnest if result.thinnest is not None else np.full(len(result.openings), math.inf)
     for a, b, count, mid in _intervals(result.openings, result.counts):
         areas = ", ".join(f"{v:.4g}" for v in result.areas[mid]) or "-"
@@ -433,10 +452,15 @@ def format_result(result: TopologyResult, family=None) -> str:
         thin = "-" if math.isinf(thin) else f"{thin:.1f}"
         lines.append(f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d} {thin:>9}  {areas}"
                      f"   (at {math.degrees(result.openings[mid]):.1f})")
-    lines.append(f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
-                 f" below {RESOLVED_PEAK:g} the count is near the grid's reach)")
+    if axis:
+        lines.append(f"(shortest: fewest axis nodes in a counted component over the interval;"
+                     f" below {RESOLVED_PEAK:g} the count is near the axis sampling's reach)")
+    else:
+        lines.append(f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
+                     f" below {RESOLVED_PEAK:g} the count is near the grid's reach)")
     for res, transitions in result.transitions.items():
-        lines.append(f"transitions on grid nx={res[0]} ny={res[1]} nphi={res[2]} (radians; degrees):")
+        where = f"{res[0]} axis nodes, exact in phi" if axis else f"grid nx={res[0]} ny={res[1]} nphi={res[2]}"
+        lines.append(f"transitions on {where} (radians; degrees):")
         if not transitions:
             lines.append("  none")
         for t in transitions:
@@ -444,6 +468,213 @@ def format_result(result: TopologyResult, family=None) -> str:
                 f"  * {t.count_low} -> {t.count_high} at Psi in [{t.low:.4f}, {t.high:.4f}] rad"
                 f" = {t.opening:.4f} +- {0.5 * (t.high - t.low):.4f}"
                 f"  ({math.degrees(t.low):.2f} to {math.degrees(t.high):.2f} deg)"
-                + ("" if t.resolved else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]")
+                + ("" if t.resolved else (f"  [sampling-limited: a component {t.thinnest:.1f} axis nodes short]" if axis
+                                          else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]"))
             )
     return "\n".join(lines)
+
+
+# --- the symmetry axis, exact in φ ------------------------------------------------------
+#
+# A SeSP pair is mirror-symmetric about the x axis, and so is every component of
+# the excluded set that is its own mirror image; such a component meets the
+# axis (a path from a point to its mirror image crosses it). Along the axis its
+# half-thickness w(x) is measured exactly in φ and adaptively in y, so thin
+# components (the island as it closes up) are followed far below any grid's
+# node spacing.
+
+AXIS_WIDTH_FLOOR = 1e-9  # b: thinner than this counts as no thickness
+_WIDTH_RATIO = 16.0  # geometric search steps for the half-thickness
+_WIDTH_BISECTIONS = 8  # then bisection, to 1/256 of the bracket
+AXIS_REFINE = 16  # runs of excluded axis nodes shorter than this are resampled this many times finer
+
+
+@dataclass(frozen=True)
+class AxisProfile:
+    """Half-thickness of the excluded set along the symmetry axis y = 0.
+
+    Attributes
+    ----------
+    opening : float
+        Ψ, radians.
+    x : (k,) ndarray
+        Axis nodes, b: cell centres of [-reach, reach], plus nodes ``AXIS_REFINE``
+        times denser over each run of excluded nodes shorter than ``AXIS_REFINE``.
+    half_width : (k,) ndarray
+        For each node, the largest w (b) such that the points (x, y) with
+        0 <= y <= w found by the search are all excluded, capped at
+        ``RESOLVED_PEAK`` coarse axis spacings (thicker parts are the 2D
+        grid's business); 0 where (x, 0) is allowed. Exact in φ; in y the
+        search tests y = 1e-9 · 16^j up to the cap, then bisects the last
+        bracket 8 times (to 1/16 of w).
+    """
+
+    opening: float
+    x: np.ndarray
+    half_width: np.ndarray
+
+    def components(self, ratio: float = 0.5, min_nodes: int = 2) -> list:
+        """Robust components along the axis: list of (x_low, x_high, peak half-thickness, nodes).
+
+        The 1D form of the persistence count (module notes): along the axis a
+        component is a run of nodes with w > ``AXIS_WIDTH_FLOOR``; two runs that
+        meet at a neck of width s stay separate if s < ``ratio`` times the
+        lower peak. Runs shorter than ``min_nodes`` nodes are not counted.
+        """
+        return _axis_persistence(self.x, self.half_width, ratio, min_nodes)
+
+
+def _axis_persistence(x, w, ratio, min_nodes):
+    """Superlevel-set components of w along a line, merged at necks as in :func:`components`."""
+    parent = np.full(len(w), -1)
+    peak, size = np.zeros(len(w)), np.zeros(len(w), dtype=int)
+    first, last = np.arange(len(w)), np.arange(len(w))
+
+    def root(i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for i in np.argsort(-w, kind="stable"):
+        if w[i] <= AXIS_WIDTH_FLOOR:
+            break
+        near = sorted({root(j) for j in (i - 1, i + 1) if 0 <= j < len(w) and parent[j] >= 0}, key=lambda r: -peak[r])
+        if not near:
+            parent[i], peak[i], size[i] = i, w[i], 1
+            continue
+        big = near[0]
+        parent[i] = big
+        size[big] += 1
+        first[big], last[big] = min(first[big], i), max(last[big], i)
+        for small in near[1:]:
+            if w[i] >= ratio * peak[small]:  # a neck as wide as the smaller side: one component
+                parent[small] = big
+                size[big] += size[small]
+                first[big], last[big] = min(first[big], first[small]), max(last[big], last[small])
+    roots = [i for i in range(len(w)) if parent[i] == i and size[i] >= min_nodes]
+    return [(float(x[first[r]]), float(x[last[r]]), float(peak[r]), int(size[r]))
+            for r in sorted(roots, key=lambda r: first[r])]
+
+
+def _axis_nodes(particle, nodes, segments):
+    from .shape import as_polyline
+
+    reach = 2 * as_polyline(particle, segments).max_radius
+    return (np.arange(nodes) - (nodes - 1) / 2) * (2 * reach / nodes)
+
+
+def axis_profile(particle, *, nodes: int = 512, segments: int = DEFAULT_SEGMENTS) -> AxisProfile:
+    """The excluded set's half-thickness along the symmetry axis, exact in φ.
+
+    Only for a mirror-symmetric pair (a SeSP with itself); components that
+    are not their own mirror image (mirror pairs off the axis) are not seen.
+
+    Parameters
+    ----------
+    particle : SeSP
+    nodes : int
+        Axis nodes over [-r₁ - r₂, r₁ + r₂].
+    segments : int
+        Polyline segments.
+    """
+    from .regions import allowed_orientations
+
+    if not isinstance(particle, SeSP):
+        raise TypeError(f"axis_profile needs a SeSP (mirror-symmetric), got {type(particle).__name__}")
+    x = _axis_nodes(particle, int(nodes), segments)
+    spacing = x[1] - x[0]
+    cap = RESOLVED_PEAK * spacing
+    w = _axis_widths(particle, x, segments, cap)
+    for first, last in _short_runs(w, AXIS_REFINE):  # resample short runs AXIS_REFINE times finer
+        count = AXIS_REFINE * (last - first + 2)
+        fine = x[first] - spacing + (np.arange(1, count) / count) * (last - first + 2) * spacing
+        x = np.concatenate([x, fine])
+        w = np.concatenate([w, _axis_widths(particle, fine, segments, cap)])
+    x, first = np.unique(x, return_index=True)  # sorted; a fine node may repeat a coarse one
+    return AxisProfile(float(particle.opening), x, w[first])
+
+
+def _axis_widths(particle, x, segments, cap):
+    from .regions import allowed_orientations
+
+    w = np.zeros(len(x))
+    inside = np.flatnonzero(allowed_orientations(particle, x, 0.0, segments=segments) == 0)
+    if len(inside):
+        w[inside] = _half_widths(particle, x[inside], segments, cap)
+    return w
+
+
+def _short_runs(w, shorter_than):
+    """(first, last) node of each run of w > 0 with fewer than ``shorter_than`` nodes."""
+    inside = np.concatenate([[False], w > AXIS_WIDTH_FLOOR, [False]]).astype(np.int8)
+    edges = np.flatnonzero(np.diff(inside))
+    runs = edges.reshape(-1, 2)
+    return [(int(a), int(b) - 1) for a, b in runs if b - a < shorter_than]
+
+
+def _half_widths(particle, xs, segments, cap):
+    """For excluded axis points: the extent in y, up to ``cap``, of the excluded run from the axis."""
+    from .regions import allowed_orientations
+
+    steps = AXIS_WIDTH_FLOOR * _WIDTH_RATIO ** np.arange(1, 1 + math.ceil(math.log(cap / AXIS_WIDTH_FLOOR, _WIDTH_RATIO)))
+    steps = np.append(steps[steps < cap], cap)
+    grid_x, grid_y = np.meshgrid(xs, steps, indexing="ij")
+    excluded = allowed_orientations(particle, grid_x, grid_y, segments=segments) == 0
+    first_allowed = np.where(excluded.all(axis=1), len(steps), np.argmin(excluded, axis=1))
+    low = np.where(first_allowed > 0, steps[np.maximum(first_allowed - 1, 0)], 0.0)
+    high = np.where(first_allowed < len(steps), steps[np.minimum(first_allowed, len(steps) - 1)], steps[-1])
+    for _ in range(_WIDTH_BISECTIONS):
+        mid = 0.5 * (low + high)
+        ok = allowed_orientations(particle, xs, mid, segments=segments) == 0
+        low, high = np.where(ok, mid, low), np.where(ok, high, mid)
+    return low
+
+
+def _axis_state(family, nodes, segments, cache):
+    """opening -> (count, shortest component in axis nodes), computed once per opening."""
+
+    def state(opening):
+        if opening not in cache:
+            profile = axis_profile(family(opening), nodes=nodes, segments=segments)
+            found = profile.components()
+            shortest = min((c[3] for c in found), default=math.inf)
+            cache[opening] = (len(found), shortest, found)
+        return cache[opening][:2]
+
+    return state
+
+
+def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int = 512,
+                     segments: int = DEFAULT_SEGMENTS, step: float = math.radians(5), tolerance: float = 0.02,
+                     progress: bool = False) -> TopologyResult:
+    """Where the count of axis components (:func:`axis_profile`) changes with Ψ.
+
+    Like :func:`find_transitions`, but each count is exact in φ and resolves
+    thicknesses down to ``AXIS_WIDTH_FLOOR``: it follows thin components (the
+    island as Ψ → π) that every grid loses early. ``thinnest`` is here the
+    shortest counted component, in axis nodes; below ``RESOLVED_PEAK`` the
+    bracket is near the axis sampling's reach; ``areas`` holds each
+    component's peak half-thickness (b) instead of an area.
+
+    Parameters
+    ----------
+    family : SeSP or callable opening -> SeSP
+    opening_range, step, tolerance
+        As in :func:`find_transitions` (radians).
+    nodes, segments
+        As in :func:`axis_profile`.
+    """
+    from tqdm.auto import tqdm
+
+    openings = _openings(opening_range, step, tolerance)
+    make = _family(family)
+    cache = {}
+    state = _axis_state(make, nodes, segments, cache)
+    states = [state(float(o)) for o in tqdm(openings, disable=not progress, desc="Ψ (axis)")]
+    areas = [np.array([c[2] for c in cache[float(o)][2]]) for o in openings]
+    result = TopologyResult("excluded (axis)", openings, np.array([s[0] for s in states]), areas,
+                            thinnest=np.array([s[1] for s in states]))
+    resolution = (nodes, 1, 0)
+    result.transitions[resolution] = [t for a, b in zip(openings[:-1], openings[1:])
+                                      for t in _refine(state, float(a), float(b), tolerance, resolution)]
+    return result
