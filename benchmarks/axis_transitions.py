@@ -9,7 +9,7 @@ side: "same" when the brackets are identical. "shortest" is the shortest
 counted component at the bracket's ends in axis nodes (below 4: near the
 sampling's reach).
 
-    python benchmarks/axis_transitions.py [--step 10] [--top 200]
+    python benchmarks/axis_transitions.py [--step 10] [--top 200] [--n 2 4 8]
 """
 
 import argparse
@@ -29,12 +29,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--step", type=float, default=10.0, help="degrees")
     ap.add_argument("--top", type=float, default=200.0, help="largest opening, degrees")
+    ap.add_argument("--n", type=float, nargs="+", default=[2, 4, 8], help="degrees n = m of the families")
     args = ap.parse_args()
     samplings = (512, 513)
     print(f"machine: {machine()}")
     print(f"openings 0..{args.top:g} deg every {args.step:g} deg, bisected to +-0.02 rad; N = 256\n")
-    rows, same_all = [], True
-    for n in (2, 4, 8):
+    same_all = True
+    for n in args.n:
+        rows = []
         t0 = time.perf_counter()
         found = {k: axis_transitions(SeSP(n=n, m=n), (0.0, math.radians(args.top)), nodes=k,
                                      step=math.radians(args.step)) for k in samplings}
@@ -51,8 +53,7 @@ def main():
             rows.append((n, cell(a), short(a), cell(b), short(b), "same" if same else "DIFFER"))
         rows.append((n, f"counts on the {args.step:g} deg scan equal: {'yes' if counts_equal else 'NO'}",
                      "", "", "", f"{seconds:.0f} s"))
-        print(f"n = {n} done in {seconds:.0f} s", flush=True)
-    print(table(rows, ("n", "512 axis nodes (deg)", "shortest", "513 axis nodes (deg)", "shortest", "")))
+        print(table(rows, ("n", "512 axis nodes (deg)", "shortest", "513 axis nodes (deg)", "shortest", "")), flush=True)
     print(f"\nall brackets identical on 512 and 513 axis nodes: {'yes' if same_all else 'no'}")
 
 
