@@ -53,7 +53,7 @@ def main():
             rows.append((n, cell(a), short(a), cell(b), short(b), "same" if same else "DIFFER"))
         rows.append((n, f"counts on the {args.step:g} deg scan equal: {'yes' if counts_equal else 'NO'}",
                      "", "", "", f"{seconds:.0f} s"))
-        print(table(rows, ("n", "512 axis nodes (deg)", "shortest", "513 axis nodes (deg)", "shortest", "")), flush=True)
+        table(rows, ("n", "512 axis nodes (deg)", "shortest", "513 axis nodes (deg)", "shortest", ""))
     print(f"\nall brackets identical on 512 and 513 axis nodes: {'yes' if same_all else 'no'}")
 
 
