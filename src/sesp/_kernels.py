@@ -571,7 +571,7 @@ def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
         lo = cuts[i]
         hi = cuts[i + 1]
         if hi > lo and _pair_signs(0.5 * (lo + hi), k1, k2, k3, k4):
-            if n > 0 and ends[n - 1] == lo and starts[n - 1] <= lo:
+            if n > 0 and ends[n - 1] == lo:  # continues the piece before
                 ends[n - 1] = hi
             else:
                 starts[n] = lo
@@ -616,7 +616,7 @@ def blocked_angles(v1, v2, tx, ty, slack):
         for i in range(n1):
             if near1[i] > rout + slack or far1[i] < rin - slack:
                 continue
-            if n + 5 > cap:
+            if n + 5 > cap:  # one pair adds at most 5 intervals (9 pieces, adjacent ones merged)
                 cap *= 2
                 grown_s = np.empty(cap)
                 grown_e = np.empty(cap)

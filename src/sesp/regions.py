@@ -30,6 +30,8 @@ __all__ = ["CLASSES", "classify", "position_summary", "summarize", "allowed_orie
 # Gaps between blocked-orientation intervals narrower than this (radians)
 # are rounding at shared end points, not allowed orientations.
 ANGLE_GAP = 1e-9
+# Width (b) by which the pair screen of the exact orientation kernel is widened.
+SCREEN_SLACK = 1e-9
 
 CLASSES = ("free", "spooning", "entangled", "excluded")
 FREE, SPOONING, ENTANGLED, EXCLUDED = range(4)
@@ -191,7 +193,7 @@ def blocked_orientations(particle, x: float, y: float, *, other=None, segments: 
     from . import _kernels
 
     v1, v2 = _curves(particle, other, segments)
-    starts, ends = _kernels.blocked_angles(v1, v2, float(x), float(y), 1e-9)
+    starts, ends = _kernels.blocked_angles(v1, v2, float(x), float(y), SCREEN_SLACK)
     return np.column_stack([starts, ends])
 
 
@@ -216,5 +218,5 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
     xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     out = np.empty(xs.size)
     _kernels.allowed_angle_at(v1, v2, np.ascontiguousarray(xs.ravel()), np.ascontiguousarray(ys.ravel()),
-                              1e-9, ANGLE_GAP, out)
+                              SCREEN_SLACK, ANGLE_GAP, out)
     return out.reshape(xs.shape)
