@@ -192,6 +192,15 @@ def test_asp_island_and_body_are_followed_to_their_end_at_pi(delta, count):
     assert len(profile.components()) == count
 
 
+@pytest.mark.parametrize("n", [2, 8])
+@pytest.mark.parametrize("nodes", [64, 65])
+def test_centre_pinch_splits_the_body_on_either_parity(n, nodes):
+    """At Ψ = 10° the body and island touch only at the centre; an even sampling must see it too."""
+    profile = axis_profile(SeSP(n=n, opening=math.radians(10)), nodes=nodes, segments=64)
+    assert 0.0 in profile.x
+    assert len(profile.components()) == 2
+
+
 def test_axis_profile_needs_a_symmetric_sesp():
     with pytest.raises(TypeError, match="SeSP"):
         axis_profile(SeSP(n=2).polyline(16))

@@ -498,7 +498,8 @@ class AxisProfile:
     opening : float
         Ψ, radians.
     x : (k,) ndarray
-        Axis nodes, b: cell centres of [-reach, reach], plus nodes ``AXIS_REFINE``
+        Axis nodes, b: cell centres of [-reach, reach] and the centre x = 0
+        (where the excluded set can touch itself), plus nodes ``AXIS_REFINE``
         times denser over each run of excluded nodes shorter than ``AXIS_REFINE``.
     half_width : (k,) ndarray
         For each node, the largest w (b) such that the points (x, y) with
@@ -560,7 +561,8 @@ def _axis_nodes(particle, nodes, segments):
     from .shape import as_polyline
 
     reach = 2 * as_polyline(particle, segments).max_radius
-    return (np.arange(nodes) - (nodes - 1) / 2) * (2 * reach / nodes)
+    cells = (np.arange(nodes) - (nodes - 1) / 2) * (2 * reach / nodes)
+    return np.union1d(cells, [0.0])  # the centre, where the excluded set can touch itself, on any parity
 
 
 def axis_profile(particle, *, nodes: int = 512, segments: int = DEFAULT_SEGMENTS) -> AxisProfile:
