@@ -5,7 +5,7 @@ import pytest
 
 from sesp import Grid, SeSP, scan
 from sesp.regions import summarize
-from sesp.topology import (RESOLVED_PEAK, _axis_persistence, axis_profile, components, excluded_components,
+from sesp.topology import (RESOLVED_PEAK, _axis_persistence, _axis_radii, axis_profile, components, excluded_components,
                            find_transitions, format_result, state_components)
 
 
@@ -192,13 +192,21 @@ def test_asp_island_and_body_are_followed_to_their_end_at_pi(delta, count):
     assert len(profile.components()) == count
 
 
+def test_axis_radii_rank_short_tall_runs_by_their_length():
+    x = np.arange(8.0)
+    w = np.array([0, 5, 5, 5, 5, 0, 5, 0])  # a tall run four nodes long and a tall single node
+    np.testing.assert_allclose(_axis_radii(x, w), [0, 1, 2, 2, 1, 0, 1, 0])
+
+
 @pytest.mark.parametrize("n", [2, 8])
-@pytest.mark.parametrize("nodes", [64, 65])
-def test_centre_pinch_splits_the_body_on_either_parity(n, nodes):
-    """At Ψ = 10° the body and island touch only at the centre; an even sampling must see it too."""
-    profile = axis_profile(SeSP(n=n, opening=math.radians(10)), nodes=nodes, segments=64)
-    assert 0.0 in profile.x
-    assert len(profile.components()) == 2
+def test_axis_counts_identical_for_even_and_odd_samplings(n):
+    """Across a Ψ sweep, 64 and 65 axis nodes count alike: the split at the centre pinch (10°) included."""
+    for degrees in (0, 10, 20, 40, 60, 80, 100, 120, 140, 160, 180, 240):
+        profiles = [axis_profile(SeSP(n=n, opening=math.radians(degrees)), nodes=k, segments=64) for k in (64, 65)]
+        assert all(0.0 in p.x for p in profiles)
+        counts = [len(p.components()) for p in profiles]
+        assert counts[0] == counts[1], (degrees, counts)
+        assert counts[0] == (1 if degrees == 0 else 0 if degrees >= 180 else 2), (degrees, counts)
 
 
 def test_axis_profile_needs_a_symmetric_sesp():

@@ -44,7 +44,9 @@ every component that is its own mirror image meets the axis. Along the axis,
 :func:`axis_profile` measures the excluded set's half-thickness exactly in φ
 (:func:`sesp.regions.allowed_orientations`, no orientation grid) and in y
 down to 1e-9 b, and :func:`axis_transitions` counts its persistent components
-over Ψ. That count follows components thinner than any grid's node, such as
+over Ψ, ranked like the grid count by the inscribed radius of the sampled
+set |y| <= w(x) (:meth:`AxisProfile.radii`), and always sampling the centre
+x = 0, where the excluded set touches itself. That count follows components thinner than any grid's node, such as
 the ASP's island, 1 − sin(Ψ/2) thick, to their end; it does not see
 components that come in mirror pairs off the axis, which only the grid count
 does.
@@ -438,7 +440,7 @@ def format_result(result: TopologyResult, family=None) -> str:
     """A plain-text report: Ψ intervals with counts and areas, then the transitions."""
     axis = result.quantity.endswith("(axis)")
     unit = "b^2" if result.quantity == "excluded" else "b^2 rad"
-    measured = "peak half-thickness at middle sample (b)" if axis else f"areas at middle sample ({unit})"
+    measured = "peak radius at middle sample (b)" if axis else f"areas at middle sample ({unit})"
     lines = []
     if family is not None:
         lines.append(f"family: {family}")
@@ -514,15 +516,36 @@ class AxisProfile:
     x: np.ndarray
     half_width: np.ndarray
 
-    def components(self, ratio: float = 0.5, min_nodes: int = 2) -> list:
-        """Robust components along the axis: list of (x_low, x_high, peak half-thickness, nodes).
+    def radii(self) -> np.ndarray:
+        """Inscribed radius (b) at each axis node of the set |y| <= w(x) it samples.
 
-        The 1D form of the persistence count (module notes): along the axis a
-        component is a run of nodes with w > ``AXIS_WIDTH_FLOOR``; two runs that
-        meet at a neck of width s stay separate if s < ``ratio`` times the
-        lower peak. Runs shorter than ``min_nodes`` nodes are not counted.
+        r(x) = min over nodes x' of sqrt((x − x')² + w(x')²): the distance from
+        (x, 0) to the nearest sampled boundary point, the axis form of the
+        distance to the complement that the grid count ranks by. It is small
+        wherever the set is short along the axis, however tall it is there.
         """
-        return _axis_persistence(self.x, self.half_width, ratio, min_nodes)
+        return _axis_radii(self.x, self.half_width)
+
+    def components(self, ratio: float = 0.5, min_nodes: int = 2) -> list:
+        """Robust components along the axis: list of (x_low, x_high, peak radius, nodes).
+
+        The 1D form of the persistence count (module notes) on the inscribed
+        radii r (:meth:`radii`): along the axis a component is a run of nodes
+        with w > ``AXIS_WIDTH_FLOOR``; two runs that meet at a neck of radius s
+        stay separate if s < ``ratio`` times the smaller peak radius. Runs
+        shorter than ``min_nodes`` nodes are not counted.
+        """
+        return _axis_persistence(self.x, self.radii(), ratio, min_nodes)
+
+
+def _axis_radii(x, w):
+    """min over x' of hypot(x − x', w(x')), per run of w > floor and its two bounding allowed nodes."""
+    r = np.where(w > AXIS_WIDTH_FLOOR, w, 0.0)
+    for a, b in _runs(w):
+        near = slice(max(a - 1, 0), min(b + 1, len(w)))  # the run and the allowed nodes around it
+        bound = np.where(w[near] > AXIS_WIDTH_FLOOR, w[near], 0.0)
+        r[a:b] = np.hypot(x[a:b, None] - x[None, near], bound[None, :]).min(axis=1)
+    return r
 
 
 def _axis_persistence(x, w, ratio, min_nodes):
@@ -606,12 +629,15 @@ def _axis_widths(particle, x, segments, cap):
     return w
 
 
-def _short_runs(w, shorter_than):
-    """(first, last) node of each run of w > 0 with fewer than ``shorter_than`` nodes."""
+def _runs(w):
+    """(start, stop) of each run of nodes with w > ``AXIS_WIDTH_FLOOR``, as slice bounds."""
     inside = np.concatenate([[False], w > AXIS_WIDTH_FLOOR, [False]]).astype(np.int8)
-    edges = np.flatnonzero(np.diff(inside))
-    runs = edges.reshape(-1, 2)
-    return [(int(a), int(b) - 1) for a, b in runs if b - a < shorter_than]
+    return np.flatnonzero(np.diff(inside)).reshape(-1, 2)
+
+
+def _short_runs(w, shorter_than):
+    """(first, last) node of each run of w > ``AXIS_WIDTH_FLOOR`` with fewer than ``shorter_than`` nodes."""
+    return [(int(a), int(b) - 1) for a, b in _runs(w) if b - a < shorter_than]
 
 
 def _half_widths(particle, xs, segments, cap):
@@ -656,7 +682,8 @@ def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int 
     island as Ψ → π) that every grid loses early. ``thinnest`` is here the
     shortest counted component, in axis nodes; below ``RESOLVED_PEAK`` the
     bracket is near the axis sampling's reach; ``areas`` holds each
-    component's peak half-thickness (b) instead of an area.
+    component's peak inscribed radius (b, :meth:`AxisProfile.radii`) instead
+    of an area.
 
     Parameters
     ----------
