@@ -217,6 +217,6 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
     v1, v2 = _curves(particle, other, segments)
     xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     out = np.empty(xs.size)
-    _kernels.allowed_angle_at(v1, v2, np.ascontiguousarray(xs.ravel()), np.ascontiguousarray(ys.ravel()),
+    _kernels.allowed_angle_at(v1, v2, xs.ravel().copy(), ys.ravel().copy(),  # owned, writeable copies
                               SCREEN_SLACK, ANGLE_GAP, out)
     return out.reshape(xs.shape)
