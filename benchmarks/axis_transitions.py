@@ -9,7 +9,10 @@ side: "same" when the brackets are identical. "shortest" is the shortest
 counted component at the bracket's ends in axis nodes (below 4: near the
 sampling's reach).
 
-    python benchmarks/axis_transitions.py [--step 10] [--top 200] [--n 2 4 8]
+    python benchmarks/axis_transitions.py [--step 10] [--from 0] [--top 200] [--n 2 4 8]
+
+A change and its reversal inside one step are not seen; ``--from 150 --step 1``
+looks for them where the components close up.
 """
 
 import argparse
@@ -28,17 +31,18 @@ def degrees(t):
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--step", type=float, default=10.0, help="degrees")
+    ap.add_argument("--from", dest="bottom", type=float, default=0.0, help="smallest opening, degrees")
     ap.add_argument("--top", type=float, default=200.0, help="largest opening, degrees")
     ap.add_argument("--n", type=float, nargs="+", default=[2, 4, 8], help="degrees n = m of the families")
     args = ap.parse_args()
     samplings = (512, 513)
     print(f"machine: {machine()}")
-    print(f"openings 0..{args.top:g} deg every {args.step:g} deg, bisected to +-0.02 rad; N = 256\n")
+    print(f"openings {args.bottom:g}..{args.top:g} deg every {args.step:g} deg, bisected to +-0.02 rad; N = 256\n")
     same_all = True
     for n in args.n:
         rows = []
         t0 = time.perf_counter()
-        found = {k: axis_transitions(SeSP(n=n, m=n), (0.0, math.radians(args.top)), nodes=k,
+        found = {k: axis_transitions(SeSP(n=n, m=n), (math.radians(args.bottom), math.radians(args.top)), nodes=k,
                                      step=math.radians(args.step)) for k in samplings}
         seconds = time.perf_counter() - t0
         lists = [next(iter(found[k].transitions.values())) for k in samplings]
