@@ -5,8 +5,8 @@ import pytest
 
 from sesp import Grid, SeSP, scan
 from sesp.regions import summarize
-from sesp.topology import (RESOLVED_PEAK, _axis_persistence, _axis_radii, axis_profile, components, excluded_components,
-                           find_transitions, format_result, state_components)
+from sesp.topology import (RESOLVED_PEAK, _axis_persistence, _axis_radii, axis_profile, components,
+                           excluded_components, find_transitions, format_result, state_components)
 
 
 def _disk(n, cx, cy, r):

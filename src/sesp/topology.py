@@ -46,10 +46,12 @@ every component that is its own mirror image meets the axis. Along the axis,
 down to 1e-9 b, and :func:`axis_transitions` counts its persistent components
 over Ψ, ranked like the grid count by the inscribed radius of the sampled
 set |y| <= w(x) (:meth:`AxisProfile.radii`), and always sampling the centre
-x = 0, where the excluded set touches itself. That count follows components thinner than any grid's node, such as
-the ASP's island, 1 − sin(Ψ/2) thick, to their end; it does not see
-components that come in mirror pairs off the axis, which only the grid count
-does.
+x = 0, where the excluded set touches itself. That count follows components
+thinner than any grid's node, such as the ASP's island, 1 − sin(Ψ/2) thick,
+to their end; it does not see components that come in mirror pairs off the
+axis, which only the grid count does. It also brackets the split at 0⁺ and
+the end at π identically on even and odd samplings, where the grid count
+is misled by thin allowed wedges and slits (``benchmarks/axis_slit.py``).
 """
 
 from __future__ import annotations
