@@ -198,15 +198,16 @@ def test_axis_radii_rank_short_tall_runs_by_their_length():
     np.testing.assert_allclose(_axis_radii(x, w), [0, 1, 2, 2, 1, 0, 1, 0])
 
 
-@pytest.mark.parametrize("n", [2, 8])
+@pytest.mark.parametrize("n", [2, 4, 8])
 def test_axis_counts_identical_for_even_and_odd_samplings(n):
-    """Across a Ψ sweep, 64 and 65 axis nodes count alike: the split at the centre pinch (10°) included."""
-    for degrees in (0, 10, 20, 40, 60, 80, 100, 120, 140, 160, 180, 240):
-        profiles = [axis_profile(SeSP(n=n, opening=math.radians(degrees)), nodes=k, segments=64) for k in (64, 65)]
+    """Across a Ψ sweep, 256 and 257 axis nodes count alike, the split at the centre pinch (10°) included."""
+    for degrees in (0, 10, 20, 40, 60, 80, 100, 120, 140, 160, 170, 180, 240):
+        profiles = [axis_profile(SeSP(n=n, opening=math.radians(degrees)), nodes=k, segments=64) for k in (256, 257)]
         assert all(0.0 in p.x for p in profiles)
         counts = [len(p.components()) for p in profiles]
         assert counts[0] == counts[1], (degrees, counts)
-        assert counts[0] == (1 if degrees == 0 else 0 if degrees >= 180 else 2), (degrees, counts)
+        if degrees != 170:  # near π the count depends on n (benchmarks/axis_transitions.py)
+            assert counts[0] == (1 if degrees == 0 else 0 if degrees >= 180 else 2), (degrees, counts)
 
 
 def test_axis_profile_needs_a_symmetric_sesp():
