@@ -452,9 +452,10 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
 
     ``dist`` is flat over a grid of ``shape`` (nz, ny, nx) (nz = 1 in the
     plane); axis 0 wraps when ``periodic``. Nodes (flat indices, ``order`` by
-    decreasing ``dist``, only nodes of the set) are added one by one and joined
-    to their already-added neighbours (full connectivity). When two components meet at a node of value s, the
-    one with the lower peak p stays separate if s < ratio · p and
+    decreasing ``dist``, only nodes of the set) are added one by one and
+    joined to their already-added neighbours (full connectivity). When two
+    components meet at a node of value s, the one with the lower peak p
+    stays separate if s < ratio · p and
     p >= min_peak (a narrow neck or a pinch between two bodies), else it is
     absorbed (a bump or a fragment). Writes each node's final component
     number (1, 2, ...; 0: in none) to ``labels`` and returns the count.

@@ -162,7 +162,7 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         raise ValueError("shifted_excluded_area needs a box reaching half a cell beyond r1 + r2: use the default box")
     cos_phi, sin_phi = grid.rotations()
     shifts = lattice_shifts(grid.nphi) * [grid.dx, grid.dy]
-    stop = grid.nphi // 2 + 1 if setup.mirrored else grid.nphi
+    stop = setup.computed_slices
     counts = np.zeros(grid.nphi, dtype=np.int64)
     _kernels.shifted_overlap_counts(
         setup.curve1.vertices, setup.curve2.vertices, cos_phi[:stop], sin_phi[:stop],

@@ -170,12 +170,11 @@ def summarize(
     return acc.dataset(g.x, g.y, setup.attrs())
 
 
-def _curves(particle, other, segments):
-    from .shape import as_polyline
+def _vertices(particle, other, segments):
+    """The pair's polyline vertices, as the exact orientation kernels take them."""
+    from .scan import _curves
 
-    curve1 = as_polyline(particle, segments)
-    curve2 = curve1 if other is None else as_polyline(other, segments)
-    return np.ascontiguousarray(curve1.vertices), np.ascontiguousarray(curve2.vertices)
+    return tuple(np.ascontiguousarray(curve.vertices) for curve in _curves(particle, other, segments))
 
 
 def blocked_orientations(particle, x: float, y: float, *, other=None, segments: int = DEFAULT_SEGMENTS):
@@ -192,7 +191,7 @@ def blocked_orientations(particle, x: float, y: float, *, other=None, segments: 
     """
     from . import _kernels
 
-    v1, v2 = _curves(particle, other, segments)
+    v1, v2 = _vertices(particle, other, segments)
     starts, ends = _kernels.blocked_angles(v1, v2, float(x), float(y), SCREEN_SLACK)
     return np.column_stack([starts, ends])
 
@@ -214,7 +213,7 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
     """
     from . import _kernels
 
-    v1, v2 = _curves(particle, other, segments)
+    v1, v2 = _vertices(particle, other, segments)
     xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     out = np.empty(xs.size)
     _kernels.allowed_angle_at(v1, v2, xs.ravel().copy(), ys.ravel().copy(),  # owned, writeable copies

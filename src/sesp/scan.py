@@ -45,6 +45,13 @@ def _check_engine(engine: str) -> str:
     return engine
 
 
+def _curves(particle, other, segments) -> tuple[Polyline, Polyline]:
+    """The two polylines of a pair: particle 2 is particle 1 unless ``other`` is given."""
+    curve1 = as_polyline(particle, segments)
+    curve2 = curve1 if other is None else as_polyline(other, segments)
+    return curve1, curve2
+
+
 def _phi_chunk(grid: Grid) -> int:
     per_slice = 2 * grid.nx * grid.ny
     return max(1, min(grid.nphi, CHUNK_BYTES // per_slice))
@@ -130,6 +137,11 @@ class Setup:
         """
         return self.engine == "raster" and isinstance(self.particle, SeSP) and isinstance(self.other, SeSP)
 
+    @property
+    def computed_slices(self) -> int:
+        """Slices k = 0 .. computed_slices − 1 are computed; the rest, if any, are their mirror images."""
+        return self.grid.nphi // 2 + 1 if self.mirrored else self.grid.nphi
+
     def attrs(self) -> dict:
         """Dataset attributes that reproduce this scan."""
         attrs = {"sesp_format": "sesp.scan", "sesp_format_version": 1, "sesp_version": __version__}
@@ -144,8 +156,7 @@ class Setup:
 def prepare(particle, grid=None, *, other=None, segments=DEFAULT_SEGMENTS, engine="raster") -> Setup:
     """Check a scan request and build its polylines and grid, before any heavy work."""
     engine = _check_engine(engine)
-    curve1 = as_polyline(particle, segments)
-    curve2 = curve1 if other is None else as_polyline(other, segments)
+    curve1, curve2 = _curves(particle, other, segments)
     reach = curve1.max_radius + curve2.max_radius
     grid = (grid if grid is not None else Grid()).resolve(reach)
     other = particle if other is None else other
@@ -159,7 +170,7 @@ def iter_slices(setup: Setup, *, crossings=False, entangled=False, chunk=None, p
     """
     grid = setup.grid
     chunk = _phi_chunk(grid) if chunk is None else max(1, int(chunk))
-    stop = grid.nphi // 2 + 1 if setup.mirrored else grid.nphi
+    stop = setup.computed_slices
     with _progress(grid.nphi, progress, f"scan ({setup.engine})") as bar:
         for k0 in range(0, stop, chunk):
             k1 = min(k0 + chunk, stop)

@@ -361,8 +361,8 @@ def _alive(pid: int) -> bool:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:
-        return True
+    except PermissionError:  # it exists, owned by another user
+        pass
     return True
 
 
@@ -544,18 +544,20 @@ def collect(folder) -> xr.Dataset:
     return _collected_dataset(manifest, dims, arrays, first)
 
 
+def _parameter_coords(name, dims, values) -> dict:
+    """A swept (dims = (name,)) or fixed (dims = ()) parameter's coordinate; openings also in degrees."""
+    if not name.endswith("opening"):
+        return {name: (dims, values, {})}
+    return {name: (dims, values, {"units": "rad"}),
+            f"{name}_degrees": (dims, np.degrees(values), {"units": "degree"})}
+
+
 def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:
     coords = {}
     for d in dims:
-        attrs = {"units": "rad"} if d.endswith("opening") else {}
-        coords[d] = (d, np.asarray(manifest["coords"][d], dtype=float), attrs)
-        if d.endswith("opening"):
-            coords[f"{d}_degrees"] = (d, np.degrees(manifest["coords"][d]), {"units": "degree"})
+        coords.update(_parameter_coords(d, (d,), np.asarray(manifest["coords"][d], dtype=float)))
     for name, value in manifest.get("fixed", {}).items():
-        attrs = {"units": "rad"} if name.endswith("opening") else {}
-        coords[name] = ((), value, attrs)
-        if name.endswith("opening"):
-            coords[f"{name}_degrees"] = ((), math.degrees(value), {"units": "degree"})
+        coords.update(_parameter_coords(name, (), value))
     for name in ("phi", "y", "x"):
         if name in first.coords:
             coords[name] = first[name]

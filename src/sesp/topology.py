@@ -306,15 +306,26 @@ def topology_profile(family, openings, *, quantity="excluded", grid: Grid | None
     return np.array([c.count for c in found]), [c.areas for c in found]
 
 
-def _counter(make, quantity, grid, segments, cache):
-    """opening -> (count, thinnest component), computed once per opening."""
+def _memoised(measure, summary, cache):
+    """opening -> summary(measure(opening)), measuring each opening once (``cache`` holds the measures)."""
 
     def state(opening):
         if opening not in cache:
-            cache[opening] = _state(_count(make, opening, quantity, grid, segments))
-        return cache[opening]
+            cache[opening] = measure(opening)
+        return summary(cache[opening])
 
     return state
+
+
+def _counter(make, quantity, grid, segments, cache):
+    """opening -> (count, thinnest component) on ``grid``; ``cache`` maps openings to Components."""
+    return _memoised(lambda opening: _count(make, opening, quantity, grid, segments), _state, cache)
+
+
+def _first_pass_transitions(state, openings, tolerance, resolution):
+    """Each change of ``state``'s count between consecutive openings, bisected."""
+    return [t for a, b in zip(openings[:-1], openings[1:])
+            for t in _refine(state, float(a), float(b), tolerance, resolution)]
 
 
 def _refine(state, low, high, tolerance, resolution):
@@ -382,12 +393,9 @@ def find_transitions(
     found = _profile(make, openings, quantity, grid, segments, progress)
     result = TopologyResult(quantity, openings, np.array([c.count for c in found]), [c.areas for c in found],
                             thinnest=np.array([_thinnest(c) for c in found]))
-    cache = {o: _state(c) for o, c in zip(openings.tolist(), found)}
-    state = _counter(make, quantity, grid, segments, cache)
+    state = _counter(make, quantity, grid, segments, dict(zip(openings.tolist(), found)))
     resolution = (grid.nx, grid.ny, grid.nphi)
-    coarse = []
-    for a, b in zip(openings[:-1], openings[1:]):
-        coarse += _refine(state, float(a), float(b), tolerance, resolution)
+    coarse = _first_pass_transitions(state, openings, tolerance, resolution)
     result.transitions[resolution] = coarse
     if refine_factor > 1:
         fine = Grid(grid.nx * refine_factor, grid.ny * refine_factor, grid.nphi * refine_factor)
@@ -583,11 +591,13 @@ def _axis_persistence(x, w, ratio, min_nodes):
 
 
 def _axis_nodes(particle, nodes, segments):
+    """(axis nodes, their spacing), b: cell centres of [-r₁ - r₂, r₁ + r₂] and the centre x = 0."""
     from .shape import as_polyline
 
     reach = 2 * as_polyline(particle, segments).max_radius
-    cells = (np.arange(nodes) - (nodes - 1) / 2) * (2 * reach / nodes)
-    return np.union1d(cells, [0.0])  # the centre, where the excluded set can touch itself, on any parity
+    spacing = 2 * reach / nodes
+    cells = (np.arange(nodes) - (nodes - 1) / 2) * spacing
+    return np.union1d(cells, [0.0]), spacing  # the centre, where the excluded set can touch itself, on any parity
 
 
 def axis_profile(particle, *, nodes: int = 512, segments: int = DEFAULT_SEGMENTS) -> AxisProfile:
@@ -604,12 +614,9 @@ def axis_profile(particle, *, nodes: int = 512, segments: int = DEFAULT_SEGMENTS
     segments : int
         Polyline segments.
     """
-    from .regions import allowed_orientations
-
     if not isinstance(particle, SeSP):
         raise TypeError(f"axis_profile needs a SeSP (mirror-symmetric), got {type(particle).__name__}")
-    x = _axis_nodes(particle, int(nodes), segments)
-    spacing = x[1] - x[0]
+    x, spacing = _axis_nodes(particle, int(nodes), segments)
     cap = RESOLVED_PEAK * spacing
     w = _axis_widths(particle, x, segments, cap)
     for first, last in _short_runs(w, AXIS_REFINE):  # resample short runs AXIS_REFINE times finer
@@ -660,18 +667,9 @@ def _half_widths(particle, xs, segments, cap):
     return low
 
 
-def _axis_state(family, nodes, segments, cache):
-    """opening -> (count, shortest component in axis nodes), computed once per opening."""
-
-    def state(opening):
-        if opening not in cache:
-            profile = axis_profile(family(opening), nodes=nodes, segments=segments)
-            found = profile.components()
-            shortest = min((c[3] for c in found), default=math.inf)
-            cache[opening] = (len(found), shortest, found)
-        return cache[opening][:2]
-
-    return state
+def _axis_summary(found) -> tuple:
+    """What a transition search keeps of axis components: (count, shortest component in axis nodes)."""
+    return len(found), min((c[3] for c in found), default=math.inf)
 
 
 def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int = 512,
@@ -699,13 +697,13 @@ def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int 
 
     openings = _openings(opening_range, step, tolerance)
     make = _family(family)
-    cache = {}
-    state = _axis_state(make, nodes, segments, cache)
+    cache = {}  # opening -> axis components
+    state = _memoised(lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(),
+                      _axis_summary, cache)
     states = [state(float(o)) for o in tqdm(openings, disable=not progress, desc="Ψ (axis)")]
-    areas = [np.array([c[2] for c in cache[float(o)][2]]) for o in openings]
+    areas = [np.array([c[2] for c in cache[float(o)]]) for o in openings]
     result = TopologyResult("excluded (axis)", openings, np.array([s[0] for s in states]), areas,
                             thinnest=np.array([s[1] for s in states]))
     resolution = (nodes, 1, 0)
-    result.transitions[resolution] = [t for a, b in zip(openings[:-1], openings[1:])
-                                      for t in _refine(state, float(a), float(b), tolerance, resolution)]
+    result.transitions[resolution] = _first_pass_transitions(state, openings, tolerance, resolution)
     return result
