@@ -24,7 +24,8 @@ def peak_rss_mib() -> float:
 
 
 def machine() -> str:
-    return f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, numba {numba.__version__} ({numba.get_num_threads()} threads)"
+    cpu = platform.processor() or platform.machine()
+    return f"{cpu}, {os.cpu_count()} cores, numba {numba.__version__} ({numba.get_num_threads()} threads)"
 
 
 def table(rows, headers):

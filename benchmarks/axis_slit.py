@@ -16,9 +16,9 @@ import math
 import time
 
 import numpy as np
+from _common import machine, table
 from scipy import ndimage
 
-from _common import machine, table
 from sesp import Grid, SeSP
 from sesp.regions import allowed_orientations, summarize
 from sesp.topology import excluded_components
@@ -58,11 +58,21 @@ def main():
     axis = allowed_orientations(particle, xs, 0.0)
     slit = xs[axis > 0]
     if len(slit):
-        rows.append(("allowed slit on the axis, x (b)", f"{slit.min():.3f} .. {slit.max():.3f}",
-                     f"phi measure {axis[axis > 0].min():.1e} .. {axis[axis > 0].max():.1e} rad"))
+        rows.append(
+            (
+                "allowed slit on the axis, x (b)",
+                f"{slit.min():.3f} .. {slit.max():.3f}",
+                f"phi measure {axis[axis > 0].min():.1e} .. {axis[axis > 0].max():.1e} rad",
+            )
+        )
         middle = float(np.median(slit))
-        rows.append((f"slit half-thickness at x = {middle:.3f} (b)", f"{slit_half_thickness(particle, middle):.1e}",
-                     f"grid node spacing {spacing:.1e}"))
+        rows.append(
+            (
+                f"slit half-thickness at x = {middle:.3f} (b)",
+                f"{slit_half_thickness(particle, middle):.1e}",
+                f"grid node spacing {spacing:.1e}",
+            )
+        )
     rows.append(("exact map time (s)", f"{time.perf_counter() - t0:.0f}", ""))
     table(rows, ("quantity", "value", "note"))
     print("\nthe window, y >= 0 (# excluded):")

@@ -20,6 +20,7 @@ import math
 import time
 
 from _common import machine, table
+
 from sesp import SeSP
 from sesp.topology import axis_transitions
 
@@ -42,21 +43,44 @@ def main():
     for n in args.n:
         rows = []
         t0 = time.perf_counter()
-        found = {k: axis_transitions(SeSP(n=n, m=n), (math.radians(args.bottom), math.radians(args.top)), nodes=k,
-                                     step=math.radians(args.step)) for k in samplings}
+        found = {
+            k: axis_transitions(
+                SeSP(n=n, m=n),
+                (math.radians(args.bottom), math.radians(args.top)),
+                nodes=k,
+                step=math.radians(args.step),
+            )
+            for k in samplings
+        }
         seconds = time.perf_counter() - t0
         lists = [next(iter(found[k].transitions.values())) for k in samplings]
         counts_equal = bool((found[512].counts == found[513].counts).all())
         for i in range(max(len(v) for v in lists)):
             a, b = (v[i] if i < len(v) else None for v in lists)
-            same = a is not None and b is not None and (a.low, a.high, a.count_low, a.count_high) == \
-                (b.low, b.high, b.count_low, b.count_high)
+            same = (
+                a is not None
+                and b is not None
+                and (a.low, a.high, a.count_low, a.count_high) == (b.low, b.high, b.count_low, b.count_high)
+            )
             same_all &= same
-            cell = lambda t: "-" if t is None else f"{t.count_low} -> {t.count_high} at {degrees(t)}"
-            short = lambda t: "-" if t is None else f"{t.thinnest:.0f}"
+
+            def cell(t):
+                return "-" if t is None else f"{t.count_low} -> {t.count_high} at {degrees(t)}"
+
+            def short(t):
+                return "-" if t is None else f"{t.thinnest:.0f}"
+
             rows.append((n, cell(a), short(a), cell(b), short(b), "same" if same else "DIFFER"))
-        rows.append((n, f"counts on the {args.step:g} deg scan equal: {'yes' if counts_equal else 'NO'}",
-                     "", "", "", f"{seconds:.0f} s"))
+        rows.append(
+            (
+                n,
+                f"counts on the {args.step:g} deg scan equal: {'yes' if counts_equal else 'NO'}",
+                "",
+                "",
+                "",
+                f"{seconds:.0f} s",
+            )
+        )
         table(rows, ("n", "512 axis nodes (deg)", "shortest", "513 axis nodes (deg)", "shortest", ""))
     print(f"\nall brackets identical on 512 and 513 axis nodes: {'yes' if same_all else 'no'}")
 

@@ -13,9 +13,9 @@ import argparse
 import math
 
 import numpy as np
+from _common import machine, table
 from scipy.optimize import curve_fit
 
-from _common import machine, table
 from sesp import Grid, SeSP
 from sesp.regions import summarize
 from sesp.topology import excluded_components
@@ -47,8 +47,15 @@ def main():
             return c * np.clip(psi_c - x, 1e-9, None) ** p
 
         (c, psi_c, p), cov = curve_fit(law, psi, areas, p0=(0.05, math.pi, 3), maxfev=20000)
-        rows.append([f"n={n}", " ".join(f"{d}:{a:.4f}" for d, a in zip(openings, areas)), f"{c:.3f}", f"{p:.2f}",
-                     f"{math.degrees(psi_c):.1f} +- {math.degrees(math.sqrt(cov[1, 1])):.1f}"])
+        rows.append(
+            [
+                f"n={n}",
+                " ".join(f"{d}:{a:.4f}" for d, a in zip(openings, areas)),
+                f"{c:.3f}",
+                f"{p:.2f}",
+                f"{math.degrees(psi_c):.1f} +- {math.degrees(math.sqrt(cov[1, 1])):.1f}",
+            ]
+        )
     print(f"machine: {machine()}; grid {args.nx}^2 x {2 * args.nx}\n")
     table(rows, ["shape", "island area (b^2) at Psi (deg)", "c", "p", "Psi_c (deg)"])
 

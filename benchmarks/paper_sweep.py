@@ -12,8 +12,8 @@ import time
 from pathlib import Path
 
 import xarray as xr
-
 from _common import machine, peak_rss_mib, table
+
 from sesp.sweep import _warm_up, run
 
 SWEEP = Path(__file__).resolve().parents[1] / "sweeps" / "exponent_opening_orientation.toml"
@@ -32,8 +32,10 @@ def main():
         dims = dict(ds.excluded_area.sizes)
         ds.close()
     print(f"machine: {machine()}\n")
-    table([[SWEEP.name, str(dims), args.workers, f"{wall:.1f}", f"{peak_rss_mib():.0f}"]],
-          ["sweep", "excluded_area dims", "workers", "wall s", "peak MiB (parent)"])
+    table(
+        [[SWEEP.name, str(dims), args.workers, f"{wall:.1f}", f"{peak_rss_mib():.0f}"]],
+        ["sweep", "excluded_area dims", "workers", "wall s", "peak MiB (parent)"],
+    )
     print(f"\ntarget 5  whole-paper sweep < 120 s: {wall:.1f} s  {'met' if wall < 120 else 'NOT met'}")
 
 

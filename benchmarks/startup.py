@@ -1,6 +1,6 @@
 """Target 6: start-up. `sesp scan` on 64 x 64 x 32 with numba's cache warm, and the first-run message.
 
-    python benchmarks/startup.py
+python benchmarks/startup.py
 """
 
 import os
@@ -30,9 +30,13 @@ def main():
     warm = min(runs)
     said = "compiling" in cold.stderr
     print(f"machine: {machine()}\n")
-    table([["cold (empty numba cache)", f"{t_cold:.2f}", "yes" if said else "no"],
-           ["warm (best of 3)", f"{warm:.2f}", ""]],
-          ["run", "wall s", "says it is compiling"])
+    table(
+        [
+            ["cold (empty numba cache)", f"{t_cold:.2f}", "yes" if said else "no"],
+            ["warm (best of 3)", f"{warm:.2f}", ""],
+        ],
+        ["run", "wall s", "says it is compiling"],
+    )
     print(f"\ntarget 6  warm start < 2 s: {warm:.2f} s  {'met' if warm < 2 else 'NOT met'}")
     print(f"target 6  first run says it is compiling: {'met' if said else 'NOT met'}")
 

@@ -13,6 +13,7 @@ import math
 import time
 
 from _common import machine, peak_rss_mib, table
+
 from sesp import Grid, SeSP
 from sesp.regions import summarize
 from sesp.topology import excluded_components
@@ -33,9 +34,20 @@ def main():
     wall = time.perf_counter() - t0
     peak = peak_rss_mib()
     print(f"machine: {machine()}\n")
-    table([[f"{args.nx}x{args.nx}x{args.nphi}", f"{grid.states:.3g}", f"{grid.states / 2**30:.1f}",
-            f"{t_scan:.1f}", f"{wall:.1f}", f"{peak:.0f}", comps.count]],
-          ["grid", "states", "field GiB (bool)", "scan+reduce s", "with components s", "peak MiB", "components"])
+    table(
+        [
+            [
+                f"{args.nx}x{args.nx}x{args.nphi}",
+                f"{grid.states:.3g}",
+                f"{grid.states / 2**30:.1f}",
+                f"{t_scan:.1f}",
+                f"{wall:.1f}",
+                f"{peak:.0f}",
+                comps.count,
+            ]
+        ],
+        ["grid", "states", "field GiB (bool)", "scan+reduce s", "with components s", "peak MiB", "components"],
+    )
     print(f"\nA_ex = {float(s.excluded_area.mean()):.6f} b^2")
     print(f"target 4  peak memory < 2 GB: {peak:.0f} MiB  {'met' if peak < 2000 else 'NOT met'}")
 

@@ -18,15 +18,28 @@ of the reference. Monte Carlo's time for the same error is (time per sample) ×
 """
 
 import math
-import time
 
 from _common import best_of, machine, table
+
 from sesp import Grid, SeSP, monte_carlo, shifted_excluded_area
 from sesp.regions import summarize
 
 TARGET = 1e-4
-LADDER = [(128, 64), (192, 64), (256, 64), (256, 128), (320, 64), (320, 128), (384, 64), (384, 128),
-          (448, 64), (448, 128), (512, 64), (512, 128), (512, 256)]
+LADDER = [
+    (128, 64),
+    (192, 64),
+    (256, 64),
+    (256, 128),
+    (320, 64),
+    (320, 128),
+    (384, 64),
+    (384, 128),
+    (448, 64),
+    (448, 128),
+    (512, 64),
+    (512, 128),
+    (512, 256),
+]
 
 
 def shifted(particle, nx, nphi):
@@ -76,26 +89,40 @@ def main():
     sigma = box * math.sqrt(p * (1 - p))
     needed = (sigma / (TARGET * reference)) ** 2
     t_mc_target = t_mc / samples * needed
-    rows.append([f"monte carlo {samples} samples", f"{float(mc.excluded_area):.4f}",
-                 f"{float(mc.excluded_area_error) / reference:.2e}", f"{t_mc:.3f}"])
+    rows.append(
+        [
+            f"monte carlo {samples} samples",
+            f"{float(mc.excluded_area):.4f}",
+            f"{float(mc.excluded_area_error) / reference:.2e}",
+            f"{t_mc:.3f}",
+        ]
+    )
     print(f"machine: {machine()}")
-    print(f"reference: shifted 2048x2048x1024, A_ex = {reference:.7f} b^2 ({t_ref:.1f} s); "
-          f"its difference to shifted 1536^2x512: {abs(check / reference - 1):.1e}; "
-          f"cell-centred 1024^3 differs from it by {centred_fine / reference - 1:+.1e}\n")
+    print(
+        f"reference: shifted 2048x2048x1024, A_ex = {reference:.7f} b^2 ({t_ref:.1f} s); "
+        f"its difference to shifted 1536^2x512: {abs(check / reference - 1):.1e}; "
+        f"cell-centred 1024^3 differs from it by {centred_fine / reference - 1:+.1e}\n"
+    )
     table(rows, ["method", "A_ex (b^2)", "relative error", "seconds"])
-    print(f"\nMonte Carlo: {t_mc / samples * 1e6:.1f} us per sample, sigma/A_ex per sample = "
-          f"{sigma / reference:.3f}, samples for 1e-4: {needed:.3g}, time {t_mc_target:.0f} s")
+    print(
+        f"\nMonte Carlo: {t_mc / samples * 1e6:.1f} us per sample, sigma/A_ex per sample = "
+        f"{sigma / reference:.3f}, samples for 1e-4: {needed:.3g}, time {t_mc_target:.0f} s"
+    )
     for method, found in best.items():
         if found is None:
             print(f"{method}: no grid of the ladder stays within 1e-4")
             continue
         ratio = t_mc_target / found[1]
-        print(f"{method}: within 1e-4 (and every costlier grid of the ladder too) from {found[0]} in "
-              f"{found[1]:.3f} s; MC / grid = {ratio:.3g}")
+        print(
+            f"{method}: within 1e-4 (and every costlier grid of the ladder too) from {found[0]} in "
+            f"{found[1]:.3f} s; MC / grid = {ratio:.3g}"
+        )
     found = best["shifted"]
     ratio = t_mc_target / found[1] if found else 0.0
-    print(f"target 3  time ratio MC / grid >= 1e4 (shifted quadrature): {ratio:.3g}  "
-          f"{'met' if ratio >= 1e4 else 'NOT met'}")
+    print(
+        f"target 3  time ratio MC / grid >= 1e4 (shifted quadrature): {ratio:.3g}  "
+        f"{'met' if ratio >= 1e4 else 'NOT met'}"
+    )
 
 
 if __name__ == "__main__":

@@ -10,8 +10,27 @@ from sesp.cli import main
 
 def test_scan_then_info(tmp_path, capsys):
     out = tmp_path / "out.nc"
-    assert main(["-q", "scan", "--n", "2", "--opening", "90", "--nx", "24", "--nphi", "8",
-                 "--segments", "32", "-o", str(out)]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "scan",
+                "--n",
+                "2",
+                "--opening",
+                "90",
+                "--nx",
+                "24",
+                "--nphi",
+                "8",
+                "--segments",
+                "32",
+                "-o",
+                str(out),
+            ]
+        )
+        == 0
+    )
     ds = load(out)
     assert ds.attrs["particle_opening"] == pytest.approx(np.pi / 2)
     assert ds.sizes == {"phi": 8, "y": 24, "x": 24}
@@ -43,10 +62,34 @@ def test_python_dash_m_works(tmp_path):
 
 
 def test_topology_report_with_the_axis_count(capsys):
-    assert main(["-q", "topology", "--n", "2", "--opening-range", "150", "190", "--step", "20", "--nx", "24",
-                 "--nphi", "16", "--segments", "64", "--refine", "1", "--axis", "64"]) == 0
+    assert (
+        main(
+            [
+                "-q",
+                "topology",
+                "--n",
+                "2",
+                "--opening-range",
+                "150",
+                "190",
+                "--step",
+                "20",
+                "--nx",
+                "24",
+                "--nphi",
+                "16",
+                "--segments",
+                "64",
+                "--refine",
+                "1",
+                "--axis",
+                "64",
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
-    axis = text[text.index("excluded (axis)"):]
+    axis = text[text.index("excluded (axis)") :]
     assert "transitions on 64 axis nodes, exact in phi" in axis
     assert "2 -> 0 at Psi" in axis  # island and body end together, at π
     assert main(["topology", "--axis", "4"]) == 2

@@ -28,8 +28,13 @@ def test_rotations_exact_at_quarter_turns():
 
 @pytest.mark.parametrize(
     "kwargs, name",
-    [({"nx": 2}, "nx"), ({"nx": 10, "ny": 0}, "ny"), ({"nphi": 0}, "nphi"), ({"nx": 3.5}, "nx"),
-     ({"half_width": -1.0}, "half_width")],
+    [
+        ({"nx": 2}, "nx"),
+        ({"nx": 10, "ny": 0}, "ny"),
+        ({"nphi": 0}, "nphi"),
+        ({"nx": 3.5}, "nx"),
+        ({"half_width": -1.0}, "half_width"),
+    ],
 )
 def test_invalid_grid(kwargs, name):
     with pytest.raises(ValueError, match=name):

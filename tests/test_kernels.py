@@ -2,11 +2,11 @@
 
 import math
 
+import naive
 import numpy as np
 import pytest
 import shapely
 
-import naive
 from sesp import Polyline, SeSP
 from sesp._kernels import crossings_at_states, in_pair_set
 

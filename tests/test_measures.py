@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from test_kernels import ZED
 
 from sesp import (
     Grid,
@@ -19,7 +20,6 @@ from sesp import (
     shifted_excluded_area,
 )
 from sesp.measures import lattice_shifts
-from test_kernels import ZED
 
 
 def test_needles_exclude_l_squared_sin_phi():

@@ -6,15 +6,15 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from test_sweep import SMALL
 
-from sesp import Grid, SeSP, plot, scan  # noqa: E402
-from sesp.cli import main  # noqa: E402
-from sesp.regions import position_summary  # noqa: E402
-from sesp.sweep import run  # noqa: E402
-from test_sweep import SMALL  # noqa: E402
+from sesp import Grid, SeSP, plot, scan
+from sesp.cli import main
+from sesp.regions import position_summary
+from sesp.sweep import run
 
 
 def _pixels(path):
@@ -95,7 +95,11 @@ def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
         save(sweep_ds.sel(n=2) if name == "asp_opening" else sweep_ds, results / name / f"{name}.nc")
     assert main(["figures", str(results), "-o", str(tmp_path / "figs")]) == 0
     written = sorted(p.name for p in (tmp_path / "figs").iterdir())
-    assert written == ["fig1_shape_gallery.png", "fig4_asp_opening.png", "fig5_exponent_opening_orientation.png",
-                       "topology_asp.png"]
+    assert written == [
+        "fig1_shape_gallery.png",
+        "fig4_asp_opening.png",
+        "fig5_exponent_opening_orientation.png",
+        "topology_asp.png",
+    ]
     for name in written:
         assert_not_blank(tmp_path / "figs" / name)

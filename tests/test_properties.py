@@ -2,11 +2,11 @@
 
 import math
 
+import naive
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import naive
 from sesp import Grid, Polyline, SeSP, excluded_area, scan
 from sesp._kernels import crossings_at_states
 
@@ -41,8 +41,10 @@ def test_polyline_is_finite_with_exact_mirror_endpoints(particle, segments):
 
 
 @PROPS
-@given(st.builds(SeSP, n=st.floats(1.0, 10.0), aspect=st.floats(0.5, 2.0), opening=st.floats(0.0, 6.0)),
-       st.integers(32, 256))
+@given(
+    st.builds(SeSP, n=st.floats(1.0, 10.0), aspect=st.floats(0.5, 2.0), opening=st.floats(0.0, 6.0)),
+    st.integers(32, 256),
+)
 def test_chords_span_equal_arcs_for_convex_shapes(particle, segments):
     """Each segment spans arc L/N of the curve. Its chord is never longer than that arc, and no
     shorter than arc · sin(α/2) across a corner of angle α; for n = m >= 1 the sharpest corner is the
@@ -56,9 +58,12 @@ def test_chords_span_equal_arcs_for_convex_shapes(particle, segments):
 
 
 @PROPS
-@given(st.one_of(sesps.map(lambda p: p.polyline(10)), polylines()),
-       st.one_of(sesps.map(lambda p: p.polyline(9)), polylines()),
-       st.integers(9, 14), st.integers(2, 6))
+@given(
+    st.one_of(sesps.map(lambda p: p.polyline(10)), polylines()),
+    st.one_of(sesps.map(lambda p: p.polyline(9)), polylines()),
+    st.integers(9, 14),
+    st.integers(2, 6),
+)
 def test_raster_and_direct_engines_agree(curve1, curve2, nx, nphi):
     grid = Grid(nx, nphi=nphi)
     fast = scan(curve1, grid, other=curve2, crossings=True)
@@ -84,8 +89,11 @@ def _counts(c1, c2, x, y, phi):
 
 
 @PROPS
-@given(sesps.map(lambda p: p.polyline(12)), sesps.map(lambda p: p.polyline(11)),
-       st.lists(st.tuples(st.floats(-4, 4), st.floats(-4, 4), st.floats(0, 2 * math.pi)), min_size=1, max_size=20))
+@given(
+    sesps.map(lambda p: p.polyline(12)),
+    sesps.map(lambda p: p.polyline(11)),
+    st.lists(st.tuples(st.floats(-4, 4), st.floats(-4, 4), st.floats(0, 2 * math.pi)), min_size=1, max_size=20),
+)
 def test_overlap_is_symmetric_under_swapping_the_particles(curve1, curve2, states):
     x, y, phi = (np.array(v) for v in zip(*states))
     # particle 1 seen from particle 2: translation −R(−φ) t, rotation −φ

@@ -1,14 +1,14 @@
 import math
 
+import naive
 import numpy as np
 import pytest
 import shapely
 import xarray as xr
+from test_kernels import ZED
 
-import naive
 from sesp import Grid, Polyline, SeSP, scan
 from sesp.regions import CLASSES, allowed_orientations, blocked_orientations, classify, position_summary, summarize
-from test_kernels import ZED
 
 
 def _brute_force_classes(curve1, curve2, ds):
@@ -100,11 +100,13 @@ def _asp_excluded_exact(x, y, opening):
     in_plus = (X - ex) ** 2 + (Y - ey) ** 2 < 1
     in_minus = (X - ex) ** 2 + (Y + ey) ** 2 < 1
     radius = 2 * math.cos(opening / 2) if opening < math.pi else 0.0
-    boundary = np.minimum.reduce([
-        np.abs(np.hypot(X, Y) - radius),
-        np.abs(np.hypot(X - ex, Y - ey) - 1),
-        np.abs(np.hypot(X - ex, Y + ey) - 1),
-    ])
+    boundary = np.minimum.reduce(
+        [
+            np.abs(np.hypot(X, Y) - radius),
+            np.abs(np.hypot(X - ex, Y - ey) - 1),
+            np.abs(np.hypot(X - ex, Y + ey) - 1),
+        ]
+    )
     return (np.hypot(X, Y) < radius) & ~(in_plus ^ in_minus), boundary
 
 

@@ -11,17 +11,21 @@ import time
 from pathlib import Path
 
 import pytest
+from test_sweep import SMALL, _point_files
 
 from sesp import Grid, SeSP, SespFileError, load, save, scan
 from sesp.cli import main
 from sesp.sweep import run
-from test_sweep import SMALL, _point_files
 
 # Kills in the SIGKILL test: 20 by default (CI), 100 with SESP_FULL_FAULTS=1.
 KILLS = 100 if os.environ.get("SESP_FULL_FAULTS") else 20
 
-FAULT_SWEEP = SMALL.replace("stop = 120, step = 30", "stop = 165, step = 5").replace("nx = 24", "nx = 48").replace(
-    "nphi = 16", "nphi = 48").replace("segments = 24", "segments = 48")
+FAULT_SWEEP = (
+    SMALL.replace("stop = 120, step = 30", "stop = 165, step = 5")
+    .replace("nx = 24", "nx = 48")
+    .replace("nphi = 16", "nphi = 48")
+    .replace("segments = 24", "segments = 48")
+)
 
 
 def _digest(path):
@@ -29,8 +33,13 @@ def _digest(path):
 
 
 def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):
-    return subprocess.Popen([sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1", *extra],
-                            stdout=subprocess.DEVNULL, stderr=stderr, start_new_session=True, **kw)
+    return subprocess.Popen(
+        [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1", *extra],
+        stdout=subprocess.DEVNULL,
+        stderr=stderr,
+        start_new_session=True,
+        **kw,
+    )
 
 
 def test_sweep_survives_repeated_sigkill(tmp_path):
@@ -64,8 +73,11 @@ def _limit_file_size():
 
 def test_disk_full_leaves_no_file_taken_as_finished(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text(SMALL.format(out=tmp_path / "out").replace('keep = ["excluded_area", "classes", "topology"]',
-                                                               'keep = ["excluded_area", "classes", "allowed"]'))
+    path.write_text(
+        SMALL.format(out=tmp_path / "out").replace(
+            'keep = ["excluded_area", "classes", "topology"]', 'keep = ["excluded_area", "classes", "allowed"]'
+        )
+    )
     proc = _sweep_process(path, stderr=subprocess.PIPE, preexec_fn=_limit_file_size)
     _, err = proc.communicate(timeout=300)
     assert proc.returncode != 0

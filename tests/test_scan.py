@@ -1,12 +1,12 @@
 import math
 
+import naive
 import numpy as np
 import pytest
+from test_kernels import STAPLE, ZED
 
-import naive
 from sesp import Grid, Polyline, SeSP, monte_carlo, scan
 from sesp.scan import field_sha256
-from test_kernels import STAPLE, ZED
 
 CASES = [
     (SeSP(n=2, opening=math.pi / 2), None, 24),
@@ -76,8 +76,17 @@ def test_dataset_layout_and_attributes():
     assert ds.sizes == {"phi": 4, "y": 18, "x": 16}
     assert ds.x.attrs["units"] == "b" and ds.phi.attrs["units"] == "rad"
     np.testing.assert_allclose(ds.phi.values, 2 * np.pi * np.arange(4) / 4)
-    for key in ("particle_n", "particle_opening", "particle_segments", "nx", "nphi", "half_width", "engine",
-                "sesp_version", "touch_tolerance"):
+    for key in (
+        "particle_n",
+        "particle_opening",
+        "particle_segments",
+        "nx",
+        "nphi",
+        "half_width",
+        "engine",
+        "sesp_version",
+        "touch_tolerance",
+    ):
         assert key in ds.attrs
     assert ds.attrs["identical_particles"] == 1
 

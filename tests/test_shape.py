@@ -108,7 +108,7 @@ def test_polyline_measures():
     assert square.max_radius == pytest.approx(math.sqrt(2))
     np.testing.assert_array_equal(square.hull(), [[-1, -1], [1, -1], [1, 1], [-1, 1]])
     with pytest.raises(ValueError, match="closed"):
-        Polyline([[0, 0], [1, 0]]).area
+        _ = Polyline([[0, 0], [1, 0]]).area
 
 
 def test_convex_hull_of_random_points_contains_them():

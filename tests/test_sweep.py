@@ -67,8 +67,11 @@ def test_spec_points_dims_and_units(tmp_path):
 
 def test_radians_and_degrees_name_the_same_points(tmp_path):
     deg = load_spec(_write(tmp_path, SMALL.format(out="o")))
-    rad_text = SMALL.format(out="o").replace('angles = "degrees"', 'angles = "radians"').replace(
-        "{ start = 30, stop = 120, step = 30 }", str([math.radians(v) for v in (30, 60, 90, 120)]))
+    rad_text = (
+        SMALL.format(out="o")
+        .replace('angles = "degrees"', 'angles = "radians"')
+        .replace("{ start = 30, stop = 120, step = 30 }", str([math.radians(v) for v in (30, 60, 90, 120)]))
+    )
     rad = load_spec(_write(tmp_path, rad_text, "r.toml"))
     assert [p["hash"] for p in deg.points()] == [p["hash"] for p in rad.points()]
 
@@ -125,16 +128,24 @@ def test_collect_refuses_incomplete_folder(tmp_path):
         collect(tmp_path / "out")
 
 
-KILL_SWEEP = SMALL.replace("stop = 120, step = 30", "stop = 165, step = 15").replace("nx = 24", "nx = 64").replace(
-    "nphi = 16", "nphi = 64").replace("segments = 24", "segments = 64")
+KILL_SWEEP = (
+    SMALL.replace("stop = 120, step = 30", "stop = 165, step = 15")
+    .replace("nx = 24", "nx = 64")
+    .replace("nphi = 16", "nphi = 64")
+    .replace("segments = 24", "segments = 64")
+)
 
 
 def test_killed_sweep_resumes_without_recomputing(tmp_path):
     """SIGKILL a real sweep process part-way, rerun, compare with an uninterrupted run."""
     path = _write(tmp_path, KILL_SWEEP.format(out=tmp_path / "killed"))
     folder = tmp_path / "killed"
-    proc = subprocess.Popen([sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 120
     while len(_point_files(folder)) < 3 and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.02)
@@ -160,8 +171,7 @@ def test_dask_cluster_and_local_processes_write_identical_files(tmp_path):
     distributed = pytest.importorskip("distributed")
     path = _write(tmp_path, SMALL.format(out="unused"))
     local = run(path, output=tmp_path / "local", workers=2, progress=False)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = run(path, output=tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
     assert _digest(local) == _digest(remote)
     for a, b in zip(_point_files(tmp_path / "local"), _point_files(tmp_path / "dask")):

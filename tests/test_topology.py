@@ -5,8 +5,17 @@ import pytest
 
 from sesp import Grid, SeSP, scan
 from sesp.regions import summarize
-from sesp.topology import (RESOLVED_PEAK, _axis_persistence, _axis_radii, axis_profile, components,
-                           excluded_components, find_transitions, format_result, state_components)
+from sesp.topology import (
+    RESOLVED_PEAK,
+    _axis_persistence,
+    _axis_radii,
+    axis_profile,
+    components,
+    excluded_components,
+    find_transitions,
+    format_result,
+    state_components,
+)
 
 
 def _disk(n, cx, cy, r):
@@ -115,8 +124,9 @@ def test_counts_identical_for_even_and_odd_grids():
     openings = list(range(0, 190, 10)) + [240]
     for degrees in openings:
         found = {
-            nx: excluded_components(summarize(SeSP(n=2, opening=math.radians(degrees)), Grid(nx, nphi=1024),
-                                              segments=128, entangled=False))
+            nx: excluded_components(
+                summarize(SeSP(n=2, opening=math.radians(degrees)), Grid(nx, nphi=1024), segments=128, entangled=False)
+            )
             for nx in (128, 129)
         }
         if found[128].count == found[129].count:
@@ -128,8 +138,15 @@ def test_counts_identical_for_even_and_odd_grids():
 
 
 def test_find_transitions_brackets_a_change():
-    result = find_transitions(SeSP(n=2), "excluded", (math.radians(120), math.radians(200)),
-                              grid=Grid(64, nphi=256), segments=64, step=math.radians(20), tolerance=0.02)
+    result = find_transitions(
+        SeSP(n=2),
+        "excluded",
+        (math.radians(120), math.radians(200)),
+        grid=Grid(64, nphi=256),
+        segments=64,
+        step=math.radians(20),
+        tolerance=0.02,
+    )
     coarse = result.transitions[(64, 64, 256)]
     assert coarse and all(t.high - t.low <= 0.04 + 1e-12 for t in coarse)
     assert coarse[-1].count_high == 0  # no excluded component once Ψ > π
@@ -143,8 +160,15 @@ def test_find_transitions_brackets_a_change():
 
 
 def test_split_of_the_closed_body_is_a_resolved_transition():
-    result = find_transitions(SeSP(n=2), "excluded", (0.0, math.radians(10)), grid=Grid(64, nphi=256),
-                              segments=64, step=math.radians(5), refine_factor=1)
+    result = find_transitions(
+        SeSP(n=2),
+        "excluded",
+        (0.0, math.radians(10)),
+        grid=Grid(64, nphi=256),
+        segments=64,
+        step=math.radians(5),
+        refine_factor=1,
+    )
     (split,) = result.transitions[(64, 64, 256)]
     assert (split.count_low, split.count_high) == (1, 2) and split.resolved
     assert split.high <= 0.04 + 1e-12

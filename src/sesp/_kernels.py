@@ -313,8 +313,9 @@ def _hull_rows(hull, px, py, ys, inv_hy, delta, lo, hi):
     first, last = ys.shape[0], -1
     for v in range(nh):
         w = (v + 1) % nh
-        f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[w, 0] + px, hull[w, 1] + py,
-                            ys, inv_hy, delta, lo, hi)
+        f, l_ = _widen_rows(
+            hull[v, 0] + px, hull[v, 1] + py, hull[w, 0] + px, hull[w, 1] + py, ys, inv_hy, delta, lo, hi
+        )
         first, last = min(first, f), max(last, l_)
     return first, last
 
@@ -359,8 +360,9 @@ def swept_hull_cover(hull, path, xs, ys, delta, diff):
             lo[iy] = min(lo_a[iy], lo_b[iy])
             hi[iy] = max(hi_a[iy], hi_b[iy])
         for v in _tangent_vertices(hull, qx - px, qy - py):
-            f, l_ = _widen_rows(hull[v, 0] + px, hull[v, 1] + py, hull[v, 0] + qx, hull[v, 1] + qy,
-                                ys, inv_hy, delta, lo, hi)
+            f, l_ = _widen_rows(
+                hull[v, 0] + px, hull[v, 1] + py, hull[v, 0] + qx, hull[v, 1] + qy, ys, inv_hy, delta, lo, hi
+            )
             r0, r1 = min(r0, f), max(r1, l_)
         for iy in range(r0, r1 + 1):
             if lo[iy] <= hi[iy]:
@@ -624,8 +626,21 @@ def blocked_angles(v1, v2, tx, ty, slack):
                 grown_s[:n] = starts[:n]
                 grown_e[:n] = ends[:n]
                 starts, ends = grown_s, grown_e
-            n = _pair_angles(v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1], v2[j, 0], v2[j, 1],
-                             v2[j + 1, 0], v2[j + 1, 1], tx, ty, starts, ends, n)
+            n = _pair_angles(
+                v1[i, 0],
+                v1[i, 1],
+                v1[i + 1, 0],
+                v1[i + 1, 1],
+                v2[j, 0],
+                v2[j, 1],
+                v2[j + 1, 0],
+                v2[j + 1, 1],
+                tx,
+                ty,
+                starts,
+                ends,
+                n,
+            )
     order = np.argsort(starts[:n], kind="mergesort")
     return starts[:n][order], ends[:n][order]
 

@@ -68,8 +68,12 @@ def _cmd_scan(args) -> int:
     grid = Grid(args.nx, args.ny, args.nphi)
     _announce_compile()
     ds = scan(
-        particle, grid, segments=args.segments, engine=args.engine,
-        crossings=args.crossings, progress=not args.quiet,
+        particle,
+        grid,
+        segments=args.segments,
+        engine=args.engine,
+        crossings=args.crossings,
+        progress=not args.quiet,
     )
     save(ds, args.output)
     if not args.quiet:
@@ -121,17 +125,28 @@ def _cmd_info(args) -> int:
 def _add_topology(sub):
     p = sub.add_parser("topology", help="component counts over the opening Ψ and where they change")
     _add_shape_args(p)
-    p.add_argument("--opening-range", nargs=2, type=float, default=(0.0, 360.0), metavar=("LOW", "HIGH"),
-                   help="Ψ range in degrees (default 0 360)")
+    p.add_argument(
+        "--opening-range",
+        nargs=2,
+        type=float,
+        default=(0.0, 360.0),
+        metavar=("LOW", "HIGH"),
+        help="Ψ range in degrees (default 0 360)",
+    )
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
     p.add_argument("--quantity", choices=("excluded", "allowed", "entangled"), default="excluded")
     p.add_argument("--nx", type=int, default=256, help="cells along x and y (default 256)")
     p.add_argument("--nphi", type=int, default=1024, help="orientations (default 1024)")
     p.add_argument("--tolerance", type=float, default=0.02, help="bracket half-width, radians (default 0.02)")
     p.add_argument("--refine", type=int, default=2, help="second resolution = this times the first (1: none)")
-    p.add_argument("--axis", type=int, default=None, metavar="NODES",
-                   help="also count the excluded set's components along the symmetry axis, exact in φ, "
-                        "on NODES axis nodes (follows thin components the grid loses; slower)")
+    p.add_argument(
+        "--axis",
+        type=int,
+        default=None,
+        metavar="NODES",
+        help="also count the excluded set's components along the symmetry axis, exact in φ, "
+        "on NODES axis nodes (follows thin components the grid loses; slower)",
+    )
     p.set_defaults(func=_cmd_topology)
 
 
@@ -147,15 +162,27 @@ def _cmd_topology(args) -> int:
     family = _shape_from_args(args, 0.0)
     _announce_compile()
     result = find_transitions(
-        family, args.quantity, (math.radians(lo), math.radians(hi)), grid=Grid(args.nx, nphi=args.nphi),
-        segments=args.segments, step=math.radians(args.step), tolerance=args.tolerance,
-        refine_factor=args.refine, progress=not args.quiet,
+        family,
+        args.quantity,
+        (math.radians(lo), math.radians(hi)),
+        grid=Grid(args.nx, nphi=args.nphi),
+        segments=args.segments,
+        step=math.radians(args.step),
+        tolerance=args.tolerance,
+        refine_factor=args.refine,
+        progress=not args.quiet,
     )
     print(format_result(result, family))
     if args.axis is not None:
-        axis = axis_transitions(family, (math.radians(lo), math.radians(hi)), nodes=args.axis,
-                                segments=args.segments, step=math.radians(args.step), tolerance=args.tolerance,
-                                progress=not args.quiet)
+        axis = axis_transitions(
+            family,
+            (math.radians(lo), math.radians(hi)),
+            nodes=args.axis,
+            segments=args.segments,
+            step=math.radians(args.step),
+            tolerance=args.tolerance,
+            progress=not args.quiet,
+        )
         print()
         print(format_result(axis))
     return 0
@@ -177,8 +204,7 @@ def _cmd_sweep(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     _announce_compile()
-    target = run(args.file, output=args.output, workers=args.workers, scheduler=args.scheduler,
-                 progress=not args.quiet)
+    target = run(args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
     print(f"wrote {target}")
     return 0
 

@@ -165,8 +165,15 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
     stop = setup.computed_slices
     counts = np.zeros(grid.nphi, dtype=np.int64)
     _kernels.shifted_overlap_counts(
-        setup.curve1.vertices, setup.curve2.vertices, cos_phi[:stop], sin_phi[:stop],
-        grid.x, grid.y, shifts[:stop], setup.delta, counts[:stop],
+        setup.curve1.vertices,
+        setup.curve2.vertices,
+        cos_phi[:stop],
+        sin_phi[:stop],
+        grid.x,
+        grid.y,
+        shifts[:stop],
+        setup.delta,
+        counts[:stop],
     )
     if setup.mirrored:
         counts[stop:] = counts[1 : grid.nphi - stop + 1][::-1]
@@ -179,8 +186,9 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         **setup.attrs(),
     }
     attrs["sesp_format"] = "sesp.shifted_excluded_area"
-    return xr.DataArray(per_phi, coords={"phi": ("phi", grid.phi, {"units": "rad"})}, dims="phi",
-                        name="excluded_area", attrs=attrs)
+    return xr.DataArray(
+        per_phi, coords={"phi": ("phi", grid.phi, {"units": "rad"})}, dims="phi", name="excluded_area", attrs=attrs
+    )
 
 
 def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> float:

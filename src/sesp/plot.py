@@ -51,8 +51,9 @@ def draw_particle(particle, ax=None, *, x=0.0, y=0.0, phi=0.0, segments=256, col
     ax.plot(v[:, 0], v[:, 1], color=color, lw=lw, solid_capstyle="round")
     if arrow:
         length = 0.6 * curve.max_radius
-        ax.annotate("", xy=(x + length * c, y + length * s), xytext=(x, y),
-                    arrowprops=dict(arrowstyle="->", color=color, lw=1))
+        ax.annotate(
+            "", xy=(x + length * c, y + length * s), xytext=(x, y), arrowprops=dict(arrowstyle="->", color=color, lw=1)
+        )
         ax.plot([x], [y], ".", color=color, ms=3)
     ax.set_aspect("equal")
     return ax
@@ -118,8 +119,17 @@ def _orientation_colors(fraction, mean):
     return 1.0 - weight * (1.0 - rgb)
 
 
-def allowed_map(ds: xr.Dataset, *, style: str = "raster", ax=None, particle=None, outlines: bool = True,
-                samples: int = 40_000, seed: int = 0, colorbar: bool = True):
+def allowed_map(
+    ds: xr.Dataset,
+    *,
+    style: str = "raster",
+    ax=None,
+    particle=None,
+    outlines: bool = True,
+    samples: int = 40_000,
+    seed: int = 0,
+    colorbar: bool = True,
+):
     """Paper Figs. 2–3: where particle 2's centre may go, coloured by allowed orientation.
 
     Parameters
@@ -146,8 +156,17 @@ def allowed_map(ds: xr.Dataset, *, style: str = "raster", ax=None, particle=None
         k, iy, ix = np.nonzero(ds.allowed.values)
         rng = np.random.default_rng(seed)
         pick = rng.choice(len(k), size=min(samples, len(k)), replace=False) if len(k) else []
-        art = ax.scatter(x[ix[pick]], y[iy[pick]], c=ds.phi.values[k[pick]], cmap=PHI_CMAP, vmin=0,
-                         vmax=2 * np.pi, s=1.5, lw=0, rasterized=True)
+        art = ax.scatter(
+            x[ix[pick]],
+            y[iy[pick]],
+            c=ds.phi.values[k[pick]],
+            cmap=PHI_CMAP,
+            vmin=0,
+            vmax=2 * np.pi,
+            s=1.5,
+            lw=0,
+            rasterized=True,
+        )
     elif style == "raster":
         summary = ds if "allowed_fraction" in ds else _summary(ds)
         rgb = _orientation_colors(summary.allowed_fraction.values, summary.mean_orientation.values)
@@ -304,7 +323,7 @@ def map_grid(ds: xr.Dataset, *, style="dots", fig=None):
         shape = SeSP(n=float(sub.n) if "n" in sub.coords else 2.0, opening=float(sub.opening))
         allowed_map(sub, style=style, ax=ax, particle=shape, colorbar=False)
         ax.set_title(f"n = {shape.n:g}, Ψ = {math.degrees(shape.opening):.0f}°", fontsize=9)
-    for ax in axes[len(points):]:
+    for ax in axes[len(points) :]:
         ax.axis("off")
     sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
     bar = fig.colorbar(sm, ax=axes.tolist(), label="φ (rad)", shrink=0.6, ticks=np.arange(5) * np.pi / 2)
@@ -324,8 +343,9 @@ def render_figures(results, out) -> list:
     ``results`` holds one folder per sweep (``<results>/<name>/<name>.nc``);
     figures whose sweep has not been run are skipped. Returns the paths written.
     """
-    import matplotlib.pyplot as plt
     from pathlib import Path
+
+    import matplotlib.pyplot as plt
 
     results, out = Path(results), Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -78,14 +78,26 @@ class _Accumulator:
         dims = ("y", "x")
         cell = float(x[1] - x[0]) * float(y[1] - y[0])
         data = {
-            "allowed_fraction": (dims, self.count / nphi, {"units": "1", "long_name": "fraction of orientations allowed"}),
-            "mean_orientation": (dims, mean, {"units": "rad", "long_name": "circular mean of allowed φ (NaN: none or no direction)"}),
+            "allowed_fraction": (
+                dims,
+                self.count / nphi,
+                {"units": "1", "long_name": "fraction of orientations allowed"},
+            ),
+            "mean_orientation": (
+                dims,
+                mean,
+                {"units": "rad", "long_name": "circular mean of allowed φ (NaN: none or no direction)"},
+            ),
             "orientation_order": (dims, strength, {"units": "1", "long_name": "mean resultant length of allowed φ"}),
             "excluded_area": (("phi",), self.excluded_per_phi * cell, {"units": "b^2", "long_name": "A_ex(φ)"}),
         }
         flags = _flag_attrs() if self.tangled is not None else {**_flag_attrs(), "comment": "entangled not computed"}
         data["classes"] = (dims, self.classes(), flags)
-        coords = {"y": ("y", y, {"units": "b"}), "x": ("x", x, {"units": "b"}), "phi": ("phi", self.phi, {"units": "rad"})}
+        coords = {
+            "y": ("y", y, {"units": "b"}),
+            "x": ("x", x, {"units": "b"}),
+            "phi": ("phi", self.phi, {"units": "rad"}),
+        }
         summary_attrs = {k: v for k, v in attrs.items() if k != "allowed_sha256"}
         summary_attrs["sesp_format"] = "sesp.summary"
         return xr.Dataset(data, coords=coords, attrs=summary_attrs)
@@ -216,6 +228,13 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
     v1, v2 = _vertices(particle, other, segments)
     xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     out = np.empty(xs.size)
-    _kernels.allowed_angle_at(v1, v2, xs.ravel().copy(), ys.ravel().copy(),  # owned, writeable copies
-                              SCREEN_SLACK, ANGLE_GAP, out)
+    _kernels.allowed_angle_at(
+        v1,
+        v2,
+        xs.ravel().copy(),
+        ys.ravel().copy(),  # owned, writeable copies
+        SCREEN_SLACK,
+        ANGLE_GAP,
+        out,
+    )
     return out.reshape(xs.shape)

@@ -76,8 +76,16 @@ def _fill_mutual_hulls(curve1, curve2, grid, k0, k1, delta):
     cos_phi, sin_phi = grid.rotations()
     out = np.empty((k1 - k0, grid.ny, grid.nx), dtype=bool)
     _kernels.mutual_hull_slices(
-        curve1.vertices, curve1.hull(), curve2.vertices, curve2.hull(),
-        cos_phi[k0:k1], sin_phi[k0:k1], grid.x, grid.y, delta, out,
+        curve1.vertices,
+        curve1.hull(),
+        curve2.vertices,
+        curve2.hull(),
+        cos_phi[k0:k1],
+        sin_phi[k0:k1],
+        grid.x,
+        grid.y,
+        delta,
+        out,
     )
     return out
 
@@ -365,4 +373,3 @@ def monte_carlo(
         },
         attrs=attrs,
     )
-

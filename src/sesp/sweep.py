@@ -239,7 +239,11 @@ def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> Sw
     spec = SweepSpec(
         name=str(doc["sweep"].get("name", path.stem)),
         output=_resolve_output(path, str(output or doc["sweep"]["output"]), base and Path(base)),
-        particle=particle, other=other, grid=grid, keep=keep, source=text,
+        particle=particle,
+        other=other,
+        grid=grid,
+        keep=keep,
+        source=text,
     )
     _check_values(path, spec)
     return spec
@@ -319,8 +323,12 @@ def compute_point(point: dict) -> xr.Dataset:
         comps = excluded_components(summary)
         areas = np.full(COMPONENTS_KEPT, np.nan)
         areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
-        out["excluded_components"] = xr.DataArray(comps.count, attrs={"long_name": "robust count of excluded components"})
-        out["component_area"] = xr.DataArray(areas, dims="component", attrs={"units": "b^2", "long_name": "areas, largest first"})
+        out["excluded_components"] = xr.DataArray(
+            comps.count, attrs={"long_name": "robust count of excluded components"}
+        )
+        out["component_area"] = xr.DataArray(
+            areas, dims="component", attrs={"units": "b^2", "long_name": "areas, largest first"}
+        )
     if field is not None:
         out["allowed"] = field.allowed
     out.attrs = {k: v for k, v in summary.attrs.items() if not k.endswith("_vertices")}
@@ -453,8 +461,15 @@ def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
     os.replace(tmp, folder / MANIFEST)
 
 
-def run(path, *, output=None, workers: int | None = None, scheduler: str | None = None,
-        progress: bool = True, collect_result: bool = True) -> Path | None:
+def run(
+    path,
+    *,
+    output=None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+    collect_result: bool = True,
+) -> Path | None:
     """Run a sweep file: compute missing points, then collect them.
 
     Parameters
@@ -487,8 +502,9 @@ def run(path, *, output=None, workers: int | None = None, scheduler: str | None 
     log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
     if todo:
         _warm_up()
-        with tqdm(total=len(points), initial=len(points) - len(todo), disable=not progress, unit="point",
-                  desc=spec.name) as bar:
+        with tqdm(
+            total=len(points), initial=len(points) - len(todo), disable=not progress, unit="point", desc=spec.name
+        ) as bar:
             if scheduler:
                 _execute_dask(todo, folder, scheduler, bar)
             else:
@@ -528,8 +544,10 @@ def collect(folder) -> xr.Dataset:
         raise SweepError(f"{folder}: no {MANIFEST}; is this a sweep output folder?") from None
     missing = [p["hash"] for p in manifest["points"] if not (folder / f"{p['hash']}.nc").is_file()]
     if missing:
-        raise SweepError(f"{folder}: {len(missing)} of {len(manifest['points'])} points are not computed yet; "
-                         "run the sweep again to finish them")
+        raise SweepError(
+            f"{folder}: {len(missing)} of {len(manifest['points'])} points are not computed yet; "
+            "run the sweep again to finish them"
+        )
     dims = manifest["dims"]
     shape = tuple(len(manifest["coords"][d]) for d in dims)
     arrays, first = {}, None
@@ -548,8 +566,7 @@ def _parameter_coords(name, dims, values) -> dict:
     """A swept (dims = (name,)) or fixed (dims = ()) parameter's coordinate; openings also in degrees."""
     if not name.endswith("opening"):
         return {name: (dims, values, {})}
-    return {name: (dims, values, {"units": "rad"}),
-            f"{name}_degrees": (dims, np.degrees(values), {"units": "degree"})}
+    return {name: (dims, values, {"units": "rad"}), f"{name}_degrees": (dims, np.degrees(values), {"units": "degree"})}
 
 
 def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:

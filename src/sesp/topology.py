@@ -67,8 +67,19 @@ from scipy import ndimage
 from .grid import Grid
 from .shape import DEFAULT_SEGMENTS, SeSP
 
-__all__ = ["Components", "components", "excluded_components", "state_components", "find_transitions",
-           "topology_profile", "format_result", "QUANTITIES", "AxisProfile", "axis_profile", "axis_transitions"]
+__all__ = [
+    "Components",
+    "components",
+    "excluded_components",
+    "state_components",
+    "find_transitions",
+    "topology_profile",
+    "format_result",
+    "QUANTITIES",
+    "AxisProfile",
+    "axis_profile",
+    "axis_transitions",
+]
 
 QUANTITIES = ("excluded", "allowed", "entangled")
 
@@ -121,8 +132,12 @@ def _distance_to_complement(mask, periodic, outside):
         pad[axis] = (0, 0)
     padded = np.pad(mask, pad, mode="constant", constant_values=outside)
     if outside:  # the set continues beyond the box: only nodes inside it can be outside the set
-        padded = np.pad(mask, [(0, 0) if a in periodic else (max(mask.shape), max(mask.shape))
-                               for a in range(mask.ndim)], mode="constant", constant_values=True)
+        padded = np.pad(
+            mask,
+            [(0, 0) if a in periodic else (max(mask.shape), max(mask.shape)) for a in range(mask.ndim)],
+            mode="constant",
+            constant_values=True,
+        )
     reps = [3 if a in periodic else 1 for a in range(mask.ndim)]
     tiled = np.tile(padded, reps)
     dist = ndimage.distance_transform_edt(tiled)
@@ -133,8 +148,9 @@ def _distance_to_complement(mask, periodic, outside):
     return dist[tuple(crop)]
 
 
-def components(mask, *, periodic=(), outside: bool = False, measure: float = 1.0, ratio: float = 0.5,
-               min_peak: float = 2.0) -> Components:
+def components(
+    mask, *, periodic=(), outside: bool = False, measure: float = 1.0, ratio: float = 0.5, min_peak: float = 2.0
+) -> Components:
     """Robust connected components of a boolean set (see the module notes).
 
     Parameters
@@ -296,8 +312,15 @@ def _profile(make, openings, quantity, grid, segments, progress) -> list:
     return [_count(make, o, quantity, grid, segments) for o in tqdm(openings, disable=not progress, desc="Ψ")]
 
 
-def topology_profile(family, openings, *, quantity="excluded", grid: Grid | None = None,
-                     segments: int = DEFAULT_SEGMENTS, progress: bool = False):
+def topology_profile(
+    family,
+    openings,
+    *,
+    quantity="excluded",
+    grid: Grid | None = None,
+    segments: int = DEFAULT_SEGMENTS,
+    progress: bool = False,
+):
     """Component counts and areas at each opening in ``openings`` (radians)."""
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
@@ -324,8 +347,11 @@ def _counter(make, quantity, grid, segments, cache):
 
 def _first_pass_transitions(state, openings, tolerance, resolution):
     """Each change of ``state``'s count between consecutive openings, bisected."""
-    return [t for a, b in zip(openings[:-1], openings[1:])
-            for t in _refine(state, float(a), float(b), tolerance, resolution)]
+    return [
+        t
+        for a, b in zip(openings[:-1], openings[1:])
+        for t in _refine(state, float(a), float(b), tolerance, resolution)
+    ]
 
 
 def _refine(state, low, high, tolerance, resolution):
@@ -391,8 +417,13 @@ def find_transitions(
     make = _family(family)
     grid = grid if grid is not None else Grid(256, nphi=256)
     found = _profile(make, openings, quantity, grid, segments, progress)
-    result = TopologyResult(quantity, openings, np.array([c.count for c in found]), [c.areas for c in found],
-                            thinnest=np.array([_thinnest(c) for c in found]))
+    result = TopologyResult(
+        quantity,
+        openings,
+        np.array([c.count for c in found]),
+        [c.areas for c in found],
+        thinnest=np.array([_thinnest(c) for c in found]),
+    )
     state = _counter(make, quantity, grid, segments, dict(zip(openings.tolist(), found)))
     resolution = (grid.nx, grid.ny, grid.nphi)
     coarse = _first_pass_transitions(state, openings, tolerance, resolution)
@@ -400,7 +431,8 @@ def find_transitions(
     if refine_factor > 1:
         fine = Grid(grid.nx * refine_factor, grid.ny * refine_factor, grid.nphi * refine_factor)
         result.transitions[(fine.nx, fine.ny, fine.nphi)] = _rebracket(
-            make, coarse, quantity, fine, segments, step, tolerance)
+            make, coarse, quantity, fine, segments, step, tolerance
+        )
     return result
 
 
@@ -427,8 +459,11 @@ def _rebracket(make, coarse, quantity, grid, segments, step, tolerance):
     resolution = (grid.nx, grid.ny, grid.nphi)
     out = []
     for factor in (1, 2, 4):
-        pending = [t for t in coarse if not any(f.low <= t.high + factor * step and f.high >= t.low - factor * step
-                                                 for f in out)]
+        pending = [
+            t
+            for t in coarse
+            if not any(f.low <= t.high + factor * step and f.high >= t.low - factor * step for f in out)
+        ]
         for low, high in _windows(pending, step, factor):
             out += _refine(state, low, high, tolerance, resolution)
         if len(out) >= len(coarse):
@@ -462,14 +497,20 @@ def format_result(result: TopologyResult, family=None) -> str:
         run = (result.openings >= a) & (result.openings <= b)
         thin = float(thinnest[run].min())
         thin = "-" if math.isinf(thin) else f"{thin:.1f}"
-        lines.append(f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d} {thin:>9}  {areas}"
-                     f"   (at {math.degrees(result.openings[mid]):.1f})")
+        lines.append(
+            f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d} {thin:>9}  {areas}"
+            f"   (at {math.degrees(result.openings[mid]):.1f})"
+        )
     if axis:
-        lines.append(f"(shortest: fewest axis nodes in a counted component over the interval;"
-                     f" below {RESOLVED_PEAK:g} the count is near the axis sampling's reach)")
+        lines.append(
+            f"(shortest: fewest axis nodes in a counted component over the interval;"
+            f" below {RESOLVED_PEAK:g} the count is near the axis sampling's reach)"
+        )
     else:
-        lines.append(f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
-                     f" below {RESOLVED_PEAK:g} the count is near the grid's reach)")
+        lines.append(
+            f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
+            f" below {RESOLVED_PEAK:g} the count is near the grid's reach)"
+        )
     for res, transitions in result.transitions.items():
         where = f"{res[0]} axis nodes, exact in phi" if axis else f"grid nx={res[0]} ny={res[1]} nphi={res[2]}"
         lines.append(f"transitions on {where} (radians; degrees):")
@@ -480,8 +521,15 @@ def format_result(result: TopologyResult, family=None) -> str:
                 f"  * {t.count_low} -> {t.count_high} at Psi in [{t.low:.4f}, {t.high:.4f}] rad"
                 f" = {t.opening:.4f} +- {0.5 * (t.high - t.low):.4f}"
                 f"  ({math.degrees(t.low):.2f} to {math.degrees(t.high):.2f} deg)"
-                + ("" if t.resolved else (f"  [sampling-limited: a component {t.thinnest:.1f} axis nodes short]" if axis
-                                          else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]"))
+                + (
+                    ""
+                    if t.resolved
+                    else (
+                        f"  [sampling-limited: a component {t.thinnest:.1f} axis nodes short]"
+                        if axis
+                        else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]"
+                    )
+                )
             )
     return "\n".join(lines)
 
@@ -586,8 +634,10 @@ def _axis_persistence(x, w, ratio, min_nodes):
                 size[big] += size[small]
                 first[big], last[big] = min(first[big], first[small]), max(last[big], last[small])
     roots = [i for i in range(len(w)) if parent[i] == i and size[i] >= min_nodes]
-    return [(float(x[first[r]]), float(x[last[r]]), float(peak[r]), int(size[r]))
-            for r in sorted(roots, key=lambda r: first[r])]
+    return [
+        (float(x[first[r]]), float(x[last[r]]), float(peak[r]), int(size[r]))
+        for r in sorted(roots, key=lambda r: first[r])
+    ]
 
 
 def _axis_nodes(particle, nodes, segments):
@@ -653,7 +703,9 @@ def _half_widths(particle, xs, segments, cap):
     """For excluded axis points: the extent in y, up to ``cap``, of the excluded run from the axis."""
     from .regions import allowed_orientations
 
-    steps = AXIS_WIDTH_FLOOR * _WIDTH_RATIO ** np.arange(1, 1 + math.ceil(math.log(cap / AXIS_WIDTH_FLOOR, _WIDTH_RATIO)))
+    steps = AXIS_WIDTH_FLOOR * _WIDTH_RATIO ** np.arange(
+        1, 1 + math.ceil(math.log(cap / AXIS_WIDTH_FLOOR, _WIDTH_RATIO))
+    )
     steps = np.append(steps[steps < cap], cap)
     grid_x, grid_y = np.meshgrid(xs, steps, indexing="ij")
     excluded = allowed_orientations(particle, grid_x, grid_y, segments=segments) == 0
@@ -672,9 +724,16 @@ def _axis_summary(found) -> tuple:
     return len(found), min((c[3] for c in found), default=math.inf)
 
 
-def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int = 512,
-                     segments: int = DEFAULT_SEGMENTS, step: float = math.radians(5), tolerance: float = 0.02,
-                     progress: bool = False) -> TopologyResult:
+def axis_transitions(
+    family,
+    opening_range=(0.0, math.pi + 0.35),
+    *,
+    nodes: int = 512,
+    segments: int = DEFAULT_SEGMENTS,
+    step: float = math.radians(5),
+    tolerance: float = 0.02,
+    progress: bool = False,
+) -> TopologyResult:
     """Where the count of axis components (:func:`axis_profile`) changes with Ψ.
 
     Like :func:`find_transitions`, but each count is exact in φ and resolves
@@ -698,12 +757,14 @@ def axis_transitions(family, opening_range=(0.0, math.pi + 0.35), *, nodes: int 
     openings = _openings(opening_range, step, tolerance)
     make = _family(family)
     cache = {}  # opening -> axis components
-    state = _memoised(lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(),
-                      _axis_summary, cache)
+    state = _memoised(
+        lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(), _axis_summary, cache
+    )
     states = [state(float(o)) for o in tqdm(openings, disable=not progress, desc="Ψ (axis)")]
     areas = [np.array([c[2] for c in cache[float(o)]]) for o in openings]
-    result = TopologyResult("excluded (axis)", openings, np.array([s[0] for s in states]), areas,
-                            thinnest=np.array([s[1] for s in states]))
+    result = TopologyResult(
+        "excluded (axis)", openings, np.array([s[0] for s in states]), areas, thinnest=np.array([s[1] for s in states])
+    )
     resolution = (nodes, 1, 0)
     result.transitions[resolution] = _first_pass_transitions(state, openings, tolerance, resolution)
     return result
