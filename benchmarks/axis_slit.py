@@ -19,8 +19,7 @@ import numpy as np
 from _common import machine, table
 from scipy import ndimage
 
-from sesp import Grid, SeSP
-from sesp.regions import allowed_orientations, summarize
+from sesp import Grid, SeSP, allowed_orientations, summarize
 from sesp.topology import excluded_components
 
 

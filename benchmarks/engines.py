@@ -20,16 +20,31 @@ import math
 import numpy as np
 from _common import best_of, machine, table
 
-from sesp import Grid, SeSP, scan
-from sesp.scan import _fill_counts, prepare
+from sesp import Grid, Pair, SeSP, scan
+from sesp.field import resolve_grid
+from sesp.kernels.overlap import crossing_field
+
+
+def prepare(particle, grid, segments):
+    """(pair, grid with its box set), as scan() prepares them."""
+    pair = Pair.of(particle, segments=segments)
+    return pair, resolve_grid(pair, grid)
+
+
+def fill(setup, k1, engine="raster"):
+    """The engine's overlap field for orientations 0..k1-1, as scan() computes it."""
+    pair, grid = setup
+    c, s = grid.rotations()
+    v1, v2 = pair.vertices1, pair.vertices2
+    return crossing_field(v1, v2, c[:k1], s[:k1], grid.x, grid.y, pair.tolerance, engine=engine, reach=pair.reach)
 
 
 def candidate_nodes(setup, k):
     """Parallelogram set-ups and bounding-box nodes the raster engine visits at φ_k (numpy replica)."""
-    grid = setup.grid
+    pair, grid = setup
     c, s = grid.rotations()
-    v1 = setup.curve1.vertices
-    b2 = setup.curve2.vertices @ np.array([[c[k], s[k]], [-s[k], c[k]]])
+    v1 = pair.curve1.vertices
+    b2 = pair.curve2.vertices @ np.array([[c[k], s[k]], [-s[k], c[k]]])
     a, d = v1[:-1, None, :], np.diff(v1, axis=0)[:, None, :]
     b, f = b2[None, :-1, :], -np.diff(b2, axis=0)[None, :, :]
     cc = a - b
@@ -52,9 +67,6 @@ def main():
     args = ap.parse_args()
     particle = SeSP(n=args.n, opening=math.pi / 2)
 
-    def fill(setup, k1, engine="raster"):
-        return _fill_counts(setup.curve1, setup.curve2, setup.grid, 0, k1, engine, False, setup.delta)
-
     warm = prepare(particle, Grid(16, nphi=2), segments=args.segments)
     fill(warm, 2), fill(warm, 2, "direct")
     scan(particle, Grid(128, nphi=64), segments=args.segments, entangled=True)  # compile outside the timing
@@ -65,7 +77,7 @@ def main():
         setup = prepare(particle, grid, segments=args.segments)
         t_allowed, ds = best_of(lambda grid=grid: scan(particle, grid, segments=args.segments))
         t_both, _ = best_of(lambda grid=grid: scan(particle, grid, segments=args.segments, entangled=True))
-        t_kernel, _ = best_of(lambda setup=setup: fill(setup, setup.grid.nphi))
+        t_kernel, _ = best_of(lambda setup=setup: fill(setup, setup[1].nphi))
         setups, nodes = candidate_nodes(setup, 0)
         per_op = t_kernel * 2 / grid.nphi / (setups + nodes) * 1e9  # 2 threads
         rates[nx] = grid.states / t_allowed

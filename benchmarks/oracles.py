@@ -1,4 +1,4 @@
-"""The exact oracles of DESIGN.md §4 with the figures they give (the same checks as tests/test_measures.py).
+"""The exact oracles of docs/design.md §4 with the figures they give (the same checks as tests/test_measures.py).
 
 python benchmarks/oracles.py
 """

@@ -14,7 +14,7 @@ from pathlib import Path
 import xarray as xr
 from _common import machine, peak_rss_mib, table
 
-from sesp.sweep import _warm_up, run
+from sesp.sweep import run, warm_up
 
 SWEEP = Path(__file__).resolve().parents[1] / "sweeps" / "exponent_opening_orientation.toml"
 
@@ -23,7 +23,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--workers", type=int, default=1)
     args = ap.parse_args()
-    _warm_up()
+    warm_up()
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         target = run(SWEEP, output=Path(tmp) / "out", workers=args.workers, progress=False)

@@ -61,6 +61,7 @@ def test_python_dash_m_works(tmp_path):
     assert result.returncode == 0 and "scan" in result.stdout
 
 
+@pytest.mark.slow
 def test_topology_report_with_the_axis_count(capsys):
     assert (
         main(

@@ -1,25 +1,15 @@
 """Fast kernels against slow, obvious references on random states."""
 
-import math
-
-import naive
 import numpy as np
 import pytest
 import shapely
 
-from sesp import Polyline, SeSP
-from sesp._kernels import crossings_at_states, in_pair_set
+from sesp import Grid, Pair, SeSP
+from sesp.field import resolve_grid
+from sesp.kernels.overlap import crossings_at_states, in_pair_set, raster_slices, raster_slices_serial
 
-STAPLE = Polyline([[0.5, 1.0], [-0.5, 1.0], [-0.5, -1.0], [0.5, -1.0]])
-ZED = Polyline([[-0.6, 0.8], [0.4, 0.8], [-0.4, -0.8], [0.6, -0.8]])
-SHAPES = [
-    SeSP(n=2, opening=math.pi / 2).polyline(24),
-    SeSP(n=8, opening=1.0).polyline(31),
-    SeSP(n=0.6, aspect=1.7, opening=2.5).polyline(20),
-    SeSP(n=4).polyline(16),
-    STAPLE,
-    ZED,
-]
+import naive
+from cases import SHAPES
 
 
 def _random_states(rng, reach, count):
@@ -68,3 +58,16 @@ def test_pair_predicate_closed_and_degenerate():
     assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
     # nearly parallel: no tolerance tail far along the segments
     assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9)
+
+
+def test_parallel_and_serial_raster_kernels_agree():
+    pair = Pair.of(SeSP(n=8, opening=1.0), segments=40)
+    g = resolve_grid(pair, Grid(33, nphi=16))
+    c, s = g.rotations()
+    args = (pair.vertices1, pair.vertices2, c, s, g.x, g.y, pair.tolerance, True)
+    parallel = np.zeros((16, 33, 33), dtype=np.uint16)
+    serial = np.zeros_like(parallel)
+    raster_slices(*args, parallel)
+    raster_slices_serial(*args, serial)
+    np.testing.assert_array_equal(parallel, serial)
+    assert parallel.any()

@@ -1,10 +1,9 @@
-"""Excluded area against exact results (DESIGN.md §4), never against earlier output."""
+"""Excluded area against exact results (docs/design.md §4), never against earlier output."""
 
 import math
 
 import numpy as np
 import pytest
-from test_kernels import ZED
 
 from sesp import (
     Grid,
@@ -20,6 +19,8 @@ from sesp import (
     shifted_excluded_area,
 )
 from sesp.measures import lattice_shifts
+
+from cases import ZED
 
 
 def test_needles_exclude_l_squared_sin_phi():

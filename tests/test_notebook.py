@@ -8,6 +8,7 @@ import pytest
 NOTEBOOK = Path(__file__).resolve().parents[1] / "examples" / "topology.ipynb"
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::RuntimeWarning")
 def test_topology_notebook_runs(tmp_path):

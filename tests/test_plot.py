@@ -9,12 +9,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
-from test_sweep import SMALL
 
 from sesp import Grid, SeSP, plot, scan
 from sesp.cli import main
 from sesp.regions import position_summary
 from sesp.sweep import run
+
+from cases import SMALL
 
 
 def _pixels(path):
@@ -85,6 +86,7 @@ def test_map_grid_from_sweep(sweep_ds, tmp_path):
     assert_not_blank(_save(plot.map_grid(sweep_ds.isel(opening=[0, 1, 2]), style="raster"), tmp_path / "mg.png"))
 
 
+@pytest.mark.slow
 def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
     from sesp import save
 

@@ -2,13 +2,14 @@
 
 import math
 
-import naive
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from sesp import Grid, Polyline, SeSP, excluded_area, scan
-from sesp._kernels import crossings_at_states
+from sesp.kernels.overlap import crossings_at_states
+
+import naive
 
 PROPS = settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 

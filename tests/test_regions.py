@@ -1,14 +1,15 @@
 import math
 
-import naive
 import numpy as np
 import pytest
 import shapely
 import xarray as xr
-from test_kernels import ZED
 
-from sesp import Grid, Polyline, SeSP, scan
-from sesp.regions import CLASSES, allowed_orientations, blocked_orientations, classify, position_summary, summarize
+from sesp import Grid, Polyline, SeSP, allowed_orientations, blocked_orientations, scan
+from sesp.regions import CLASSES, classify, position_summary, summarize
+
+import naive
+from cases import ZED
 
 
 def _brute_force_classes(curve1, curve2, ds):

@@ -11,11 +11,13 @@ import time
 from pathlib import Path
 
 import pytest
-from test_sweep import SMALL, _point_files
 
 from sesp import Grid, SeSP, SespFileError, load, save, scan
 from sesp.cli import main
 from sesp.sweep import run
+
+from cases import SMALL
+from cases import point_files as _point_files
 
 # Kills in the SIGKILL test: 20 by default (CI), 100 with SESP_FULL_FAULTS=1.
 KILLS = 100 if os.environ.get("SESP_FULL_FAULTS") else 20
@@ -42,6 +44,7 @@ def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):
     )
 
 
+@pytest.mark.slow
 def test_sweep_survives_repeated_sigkill(tmp_path):
     """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run."""
     path = tmp_path / "s.toml"
@@ -96,6 +99,7 @@ def test_save_into_unwritable_place_is_a_clear_error(tmp_path, capsys):
     assert code == 2 and "Traceback" not in err and "file" in err
 
 
+@pytest.mark.slow
 def test_two_runners_on_one_folder(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(FAULT_SWEEP.format(out=tmp_path / "shared"))

@@ -13,40 +13,11 @@ import xarray as xr
 
 from sesp.sweep import SweepError, collect, load_spec, run
 
-ROOT = Path(__file__).resolve().parents[1]
-
-SMALL = """
-[sweep]
-name = "small"
-output = "{out}"
-angles = "degrees"
-
-[particle]
-n = [2, 8]
-opening = {{ start = 30, stop = 120, step = 30 }}
-segments = 24
-
-[grid]
-nx = 24
-nphi = 16
-
-[output]
-keep = ["excluded_area", "classes", "topology"]
-"""
-
-
-def _write(tmp_path, text, name="s.toml"):
-    path = tmp_path / name
-    path.write_text(text)
-    return path
+from cases import ROOT, SMALL, point_files, write_sweep
 
 
 def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
-def _point_files(folder: Path):
-    return sorted(p for p in folder.glob("*.nc") if len(p.stem) == 16)
 
 
 @pytest.mark.parametrize("sweep_file", sorted((ROOT / "sweeps").glob("*.toml")), ids=lambda p: p.name)
@@ -56,24 +27,24 @@ def test_shipped_sweep_files_are_valid(sweep_file):
 
 
 def test_spec_points_dims_and_units(tmp_path):
-    spec = load_spec(_write(tmp_path, SMALL.format(out=tmp_path / "o")))
+    spec = load_spec(write_sweep(tmp_path, SMALL.format(out=tmp_path / "o")))
     assert spec.dims == ["n", "opening"]
     assert len(spec.points()) == 8
     np.testing.assert_allclose(spec.particle["opening"], np.radians([30, 60, 90, 120]))
-    hashes = [p["hash"] for p in spec.points()]
+    hashes = [p.hash for p in spec.points()]
     assert len(set(hashes)) == 8
-    assert hashes == [p["hash"] for p in load_spec(_write(tmp_path, SMALL.format(out=tmp_path / "o"))).points()]
+    assert hashes == [p.hash for p in load_spec(write_sweep(tmp_path, SMALL.format(out=tmp_path / "o"))).points()]
 
 
 def test_radians_and_degrees_name_the_same_points(tmp_path):
-    deg = load_spec(_write(tmp_path, SMALL.format(out="o")))
+    deg = load_spec(write_sweep(tmp_path, SMALL.format(out="o")))
     rad_text = (
         SMALL.format(out="o")
         .replace('angles = "degrees"', 'angles = "radians"')
         .replace("{ start = 30, stop = 120, step = 30 }", str([math.radians(v) for v in (30, 60, 90, 120)]))
     )
-    rad = load_spec(_write(tmp_path, rad_text, "r.toml"))
-    assert [p["hash"] for p in deg.points()] == [p["hash"] for p in rad.points()]
+    rad = load_spec(write_sweep(tmp_path, rad_text, "r.toml"))
+    assert [p.hash for p in deg.points()] == [p.hash for p in rad.points()]
 
 
 @pytest.mark.parametrize(
@@ -96,7 +67,7 @@ def test_radians_and_degrees_name_the_same_points(tmp_path):
 )
 def test_bad_sweep_files_name_file_and_key(tmp_path, edit, words):
     text = SMALL.format(out="o").replace(*edit)
-    path = _write(tmp_path, text)
+    path = write_sweep(tmp_path, text)
     with pytest.raises(SweepError) as err:
         load_spec(path)
     assert str(path) in str(err.value)
@@ -105,7 +76,7 @@ def test_bad_sweep_files_name_file_and_key(tmp_path, edit, words):
 
 
 def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
-    path = _write(tmp_path, SMALL.format(out=tmp_path / "out"))
+    path = write_sweep(tmp_path, SMALL.format(out=tmp_path / "out"))
     target = run(path, workers=1, progress=False)
     ds = xr.open_dataset(target)
     assert dict(ds.sizes) == {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "component": 4}
@@ -115,15 +86,15 @@ def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
     assert ds.classes.attrs["flag_meanings"] == "free spooning entangled excluded"
     assert float(ds.segments) == 24 and ds.segments.dims == ()  # fixed parameters are scalar coordinates
     ds.close()
-    stamps = {p.name: p.stat().st_mtime_ns for p in _point_files(tmp_path / "out")}
+    stamps = {p.name: p.stat().st_mtime_ns for p in point_files(tmp_path / "out")}
     run(path, workers=1, progress=False)
-    assert {p.name: p.stat().st_mtime_ns for p in _point_files(tmp_path / "out")} == stamps
+    assert {p.name: p.stat().st_mtime_ns for p in point_files(tmp_path / "out")} == stamps
 
 
 def test_collect_refuses_incomplete_folder(tmp_path):
-    path = _write(tmp_path, SMALL.format(out=tmp_path / "out"))
+    path = write_sweep(tmp_path, SMALL.format(out=tmp_path / "out"))
     run(path, workers=1, progress=False, collect_result=False)
-    _point_files(tmp_path / "out")[0].unlink()
+    point_files(tmp_path / "out")[0].unlink()
     with pytest.raises(SweepError, match="1 of 8 points are not computed"):
         collect(tmp_path / "out")
 
@@ -136,9 +107,10 @@ KILL_SWEEP = (
 )
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes_without_recomputing(tmp_path):
     """SIGKILL a real sweep process part-way, rerun, compare with an uninterrupted run."""
-    path = _write(tmp_path, KILL_SWEEP.format(out=tmp_path / "killed"))
+    path = write_sweep(tmp_path, KILL_SWEEP.format(out=tmp_path / "killed"))
     folder = tmp_path / "killed"
     proc = subprocess.Popen(
         [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1"],
@@ -147,32 +119,76 @@ def test_killed_sweep_resumes_without_recomputing(tmp_path):
         start_new_session=True,
     )
     deadline = time.monotonic() + 120
-    while len(_point_files(folder)) < 3 and time.monotonic() < deadline and proc.poll() is None:
+    while len(point_files(folder)) < 3 and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.02)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
-    done = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in _point_files(folder)}
+    done = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in point_files(folder)}
     assert 3 <= len(done) < 20, "the kill should land part-way through the sweep"
     run(path, workers=1, progress=False)
-    after = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in _point_files(folder)}
+    after = {p.name: (p.stat().st_ino, p.stat().st_mtime_ns) for p in point_files(folder)}
     assert all(after[name] == stamp for name, stamp in done.items())  # not recomputed
     assert len(after) == 20
     fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
     assert _digest(folder / "small.nc") == _digest(fresh)
-    for a, b in zip(_point_files(folder), _point_files(tmp_path / "fresh")):
+    for a, b in zip(point_files(folder), point_files(tmp_path / "fresh")):
         assert a.name == b.name and _digest(a) == _digest(b)
     assert not list(folder.glob(".*.tmp"))
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 @pytest.mark.filterwarnings("ignore::ResourceWarning")
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_dask_cluster_and_local_processes_write_identical_files(tmp_path):
     distributed = pytest.importorskip("distributed")
-    path = _write(tmp_path, SMALL.format(out="unused"))
+    path = write_sweep(tmp_path, SMALL.format(out="unused"))
     local = run(path, output=tmp_path / "local", workers=2, progress=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         remote = run(path, output=tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
     assert _digest(local) == _digest(remote)
-    for a, b in zip(_point_files(tmp_path / "local"), _point_files(tmp_path / "dask")):
+    for a, b in zip(point_files(tmp_path / "local"), point_files(tmp_path / "dask")):
         assert a.name == b.name and _digest(a) == _digest(b)
+
+
+POLYLINE_MIXTURE = """
+[sweep]
+name = "mixture"
+output = "{out}"
+angles = "degrees"
+
+[particle]
+vertices = [[-1.0, 0.0], [1.0, 0.0]]
+
+[other]
+n = 2
+opening = [0, 90]
+
+[grid]
+nx = 32
+nphi = 8
+"""
+
+
+def test_sweep_of_a_polyline_and_a_sesp_mixture(tmp_path):
+    path = write_sweep(tmp_path, POLYLINE_MIXTURE.format(out=tmp_path / "out"))
+    spec = load_spec(path)
+    assert spec.dims == ["other_opening"]
+    points = spec.points()
+    particle, other = points[1].particles()
+    assert other.opening == pytest.approx(math.pi / 2) and particle.segments == 1
+    ds = xr.open_dataset(run(path, workers=1, progress=False))
+    assert ds.excluded_area.dims == ("other_opening", "phi")
+    # needle of length L = 2 against a unit circle (R = 1, L = 2R: it never fits inside):
+    # A_ex = πR² + 2RL = π + 4 at every φ, to the coarse grid's accuracy
+    closed = ds.excluded_area.sel(other_opening=0).values
+    np.testing.assert_allclose(closed, math.pi + 4, rtol=0.05)
+    ds.close()
+
+
+def test_vertices_and_shape_keys_are_exclusive(tmp_path):
+    text = POLYLINE_MIXTURE.replace(
+        "vertices = [[-1.0, 0.0], [1.0, 0.0]]", "vertices = [[-1.0, 0.0], [1.0, 0.0]]\nn = 2"
+    )
+    with pytest.raises(SweepError, match="vertices"):
+        load_spec(write_sweep(tmp_path, text.format(out=tmp_path / "out")))

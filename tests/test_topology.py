@@ -5,6 +5,7 @@ import pytest
 
 from sesp import Grid, SeSP, scan
 from sesp.regions import summarize
+from sesp.report import format_result
 from sesp.topology import (
     RESOLVED_PEAK,
     _axis_persistence,
@@ -13,7 +14,6 @@ from sesp.topology import (
     components,
     excluded_components,
     find_transitions,
-    format_result,
     state_components,
 )
 
@@ -118,6 +118,7 @@ def test_asp_island_area_is_the_lens_and_converges(degrees):
     assert errors[1] < 0.03
 
 
+@pytest.mark.slow
 def test_counts_identical_for_even_and_odd_grids():
     """Across a Ψ sweep, 128² and 129² count alike wherever every component is resolved."""
     equal = 0
@@ -222,6 +223,7 @@ def test_axis_radii_rank_short_tall_runs_by_their_length():
     np.testing.assert_allclose(_axis_radii(x, w), [0, 1, 2, 2, 1, 0, 1, 0])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n", [2, 4, 8])
 def test_axis_counts_identical_for_even_and_odd_samplings(n):
     """Across a Ψ sweep, 256 and 257 axis nodes count alike, the split at the centre pinch (10°) included."""

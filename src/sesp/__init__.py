@@ -4,11 +4,17 @@ Which relative positions and orientations two hard, thin superellipse sector
 particles (SeSPs) may take, how much area one excludes from the other, and how
 the allowed space changes shape as the opening closes — computed on a regular
 (x, y, φ) grid with exact cross-checks.
+
+The public API is this module's ``__all__``; ``docs/design.md`` maps the
+modules behind it.
 """
 
-from ._version import __version__
+from . import plot, topology, version
+from .analysis import analyze
+from .dataset import SespFileError, cell_area, grid_of, pair_of
+from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
 from .grid import Grid
-from .io import SespFileError, load, save
+from .io import load, save
 from .measures import (
     closed_excluded_area,
     convex_excluded_area,
@@ -18,17 +24,42 @@ from .measures import (
     normalized_excluded_area,
     shifted_excluded_area,
 )
-from .scan import ENGINES, monte_carlo, scan
+from .orientations import allowed_orientations, blocked_orientations
+from .pair import Pair
+from .reductions import Reduction
+from .regions import CLASSES, classify, position_summary, summarize
+from .report import describe, format_result
 from .shape import Polyline, SeSP
+from .topology import (
+    AxisProfile,
+    Components,
+    axis_profile,
+    axis_transitions,
+    components,
+    excluded_components,
+    find_transitions,
+    state_components,
+    topology_profile,
+)
+
+__version__ = version.__version__
 
 __all__ = [
     "__version__",
+    # particles, pairs and grids
     "SeSP",
     "Polyline",
+    "Pair",
     "Grid",
+    # the field and its reductions
     "scan",
+    "reduce",
+    "iter_slices",
+    "Reduction",
+    "analyze",
     "monte_carlo",
     "ENGINES",
+    # measures
     "excluded_area",
     "excluded_area_error",
     "shifted_excluded_area",
@@ -36,7 +67,33 @@ __all__ = [
     "closed_excluded_area",
     "convex_excluded_area",
     "kinematic_integral",
+    # positions and orientations
+    "CLASSES",
+    "summarize",
+    "classify",
+    "position_summary",
+    "allowed_orientations",
+    "blocked_orientations",
+    # topology
+    "components",
+    "excluded_components",
+    "state_components",
+    "find_transitions",
+    "topology_profile",
+    "axis_profile",
+    "axis_transitions",
+    "Components",
+    "AxisProfile",
+    "format_result",
+    # files and datasets
     "save",
     "load",
     "SespFileError",
+    "grid_of",
+    "pair_of",
+    "cell_area",
+    "describe",
+    # modules
+    "plot",
+    "topology",
 ]

@@ -19,11 +19,11 @@ def _kernels_cached() -> bool:
     """True when numba's on-disk cache holds compiled kernels for this install."""
     import numba
 
-    from . import _kernels
+    from . import kernels
 
     if numba.config.CACHE_DIR:
-        return any(Path(numba.config.CACHE_DIR).rglob("_kernels.*.nbi"))
-    return any((Path(_kernels.__file__).parent / "__pycache__").glob("_kernels.*.nbi"))
+        return any(Path(numba.config.CACHE_DIR).rglob("overlap.*.nbi"))
+    return any((Path(kernels.__file__).parent / "__pycache__").glob("overlap.*.nbi"))
 
 
 def _announce_compile():
@@ -60,21 +60,15 @@ def _shape_from_args(args, opening_deg: float):
 
 
 def _cmd_scan(args) -> int:
+    from .analysis import analyze
     from .grid import Grid
     from .io import save
-    from .scan import scan
 
     particle = _shape_from_args(args, args.opening)
     grid = Grid(args.nx, args.ny, args.nphi)
+    keep = ("allowed", "excluded_area") + ("crossings",) * args.crossings
     _announce_compile()
-    ds = scan(
-        particle,
-        grid,
-        segments=args.segments,
-        engine=args.engine,
-        crossings=args.crossings,
-        progress=not args.quiet,
-    )
+    ds = analyze(particle, grid, segments=args.segments, keep=keep, engine=args.engine, progress=not args.quiet)
     save(ds, args.output)
     if not args.quiet:
         print(f"wrote {args.output}")
@@ -87,36 +81,9 @@ def _add_info(sub):
     p.set_defaults(func=_cmd_info)
 
 
-def describe(ds) -> str:
-    """A human-readable summary of a scan dataset."""
-    from .measures import excluded_area
-
-    a = ds.attrs
-    lines = [f"sesp {a.get('sesp_format')} written by sesp {a.get('sesp_version')}"]
-    for prefix in ("particle", "other"):
-        if a.get(f"{prefix}_kind") == "SeSP":
-            shape = (
-                f"SeSP n={a[f'{prefix}_n']:g} m={a[f'{prefix}_m']:g} aspect={a[f'{prefix}_aspect']:g} "
-                f"opening={math.degrees(a[f'{prefix}_opening']):g} deg"
-            )
-        else:
-            shape = f"Polyline of {a[f'{prefix}_segments']} segments"
-        lines.append(f"{prefix:9s}: {shape}, N={a[f'{prefix}_segments']}, length={a[f'{prefix}_length']:.6g} b")
-    if a.get("sesp_format") == "sesp.scan":
-        lines.append(
-            f"grid     : nx={a['nx']} ny={a['ny']} nphi={a['nphi']} half_width={a['half_width']:.6g} b, "
-            f"engine={a['engine']}"
-        )
-        area = excluded_area(ds)
-        lines.append(f"A_ex     : {area:.8g} b^2  (A_ex / 4π = {area / (4 * math.pi):.6g})")
-    else:
-        lines.append(f"samples  : {a['samples']}")
-        lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")
-    return "\n".join(lines)
-
-
 def _cmd_info(args) -> int:
     from .io import load
+    from .report import describe
 
     print(describe(load(args.file)))
     return 0
@@ -152,7 +119,8 @@ def _add_topology(sub):
 
 def _cmd_topology(args) -> int:
     from .grid import Grid
-    from .topology import axis_transitions, find_transitions, format_result
+    from .report import format_result
+    from .topology import axis_transitions, find_transitions
 
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):

@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .shape import check_positive
+from .checks import check_count, check_positive
 
 __all__ = ["Grid", "available_memory"]
 
@@ -28,14 +28,6 @@ def available_memory() -> int:
         return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
         return 8 << 30
-
-
-def _check_count(name: str, value, lo: int, hi: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
-    if not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value}")
-    return int(value)
 
 
 @dataclass(frozen=True)
@@ -68,10 +60,10 @@ class Grid:
     half_width: float | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "nx", _check_count("nx", self.nx, 3, MAX_CELLS_PER_AXIS))
-        ny = self.nx if self.ny is None else _check_count("ny", self.ny, 3, MAX_CELLS_PER_AXIS)
+        object.__setattr__(self, "nx", check_count("nx", self.nx, 3, MAX_CELLS_PER_AXIS))
+        ny = self.nx if self.ny is None else check_count("ny", self.ny, 3, MAX_CELLS_PER_AXIS)
         object.__setattr__(self, "ny", ny)
-        object.__setattr__(self, "nphi", _check_count("nphi", self.nphi, 1, MAX_CELLS_PER_AXIS))
+        object.__setattr__(self, "nphi", check_count("nphi", self.nphi, 1, MAX_CELLS_PER_AXIS))
         if self.half_width is not None:
             object.__setattr__(self, "half_width", check_positive("half_width", self.half_width))
 
@@ -159,7 +151,7 @@ def exact_cos_sin(k: np.ndarray, nphi: int) -> tuple[np.ndarray, np.ndarray]:
     """cos and sin of 2πk/nphi, with exact values at multiples of π/2.
 
     Exact rotations by π/2 keep parallel segments exactly parallel, so the
-    degenerate pairs of DESIGN.md §6 are seen as such by both engines; and
+    degenerate pairs (docs/design.md, engines) are seen as such by both engines; and
     cos(−φ) = cos φ, sin(−φ) = −sin φ hold exactly, so mirror-symmetric
     particles give exactly mirror-symmetric fields.
     """

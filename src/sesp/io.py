@@ -13,22 +13,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .scan import field_sha256
+from .dataset import SespFileError, validate
 
-__all__ = ["save", "load", "SespFileError"]
-
-# Variables each kind of sesp file must hold: name -> (dims, dtype kind).
-REQUIRED = {
-    "sesp.scan": {"allowed": (("phi", "y", "x"), "b")},
-    "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
-    "sesp.point": {"excluded_area": (("phi",), "f")},
-    "sesp.sweep": {},
-}
-OPTIONAL = {"crossings": (("phi", "y", "x"), "u"), "entangled": (("phi", "y", "x"), "b")}
-
-
-class SespFileError(ValueError):
-    """A file that is not a readable sesp dataset, or whose contents do not check out."""
+__all__ = ["save", "load", "SespFileError", "validate"]
 
 
 def _encoding(ds: xr.Dataset) -> dict:
@@ -72,40 +59,6 @@ def _open(path: Path) -> xr.Dataset:
             return ds.load()
     except (OSError, ValueError, RuntimeError, KeyError) as err:
         raise SespFileError(f"{path}: not a readable netCDF file ({err})") from None
-
-
-def _check_variable(path, ds, name, dims, kind):
-    var = ds[name]
-    if var.dims != dims:
-        raise SespFileError(f"{path}: variable {name!r} has dims {var.dims}, expected {dims}")
-    if var.dtype.kind != kind:
-        raise SespFileError(f"{path}: variable {name!r} has dtype {var.dtype}, expected kind {kind!r}")
-
-
-def _check_scan(path: Path, ds: xr.Dataset):
-    for dim, key in (("x", "nx"), ("y", "ny"), ("phi", "nphi")):
-        if key not in ds.attrs or ds.sizes.get(dim) != int(ds.attrs[key]):
-            raise SespFileError(f"{path}: size of {dim} does not match attribute {key}")
-    expected = ds.attrs.get("allowed_sha256")
-    if expected is not None and field_sha256(ds.allowed.values) != expected:
-        raise SespFileError(f"{path}: allowed field does not match its recorded SHA-256 (file corrupted?)")
-
-
-def validate(ds: xr.Dataset, path="<dataset>") -> xr.Dataset:
-    """Check that ``ds`` is a well-formed sesp dataset; raise SespFileError if not."""
-    kind = ds.attrs.get("sesp_format")
-    if kind not in REQUIRED:
-        raise SespFileError(f"{path}: not a sesp dataset (attribute sesp_format is {kind!r})")
-    for name, (dims, dtype_kind) in REQUIRED[kind].items():
-        if name not in ds:
-            raise SespFileError(f"{path}: missing variable {name!r} required in a {kind} file")
-        _check_variable(path, ds, name, dims, dtype_kind)
-    for name, (dims, dtype_kind) in OPTIONAL.items():
-        if name in ds:
-            _check_variable(path, ds, name, dims, dtype_kind)
-    if kind == "sesp.scan":
-        _check_scan(path, ds)
-    return ds
 
 
 def load(path) -> xr.Dataset:

@@ -12,9 +12,13 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import _kernels
+from .checks import check_choice
+from .dataset import base_attrs, cell_area, grid_attrs, grid_of, pair_attrs, pair_of
+from .field import computed_slices, resolve_grid, scan
 from .grid import Grid
-from .shape import DEFAULT_SEGMENTS, Polyline, SeSP, particle_from_attrs
+from .kernels import overlap
+from .pair import Pair, as_pair
+from .shape import DEFAULT_SEGMENTS, Polyline
 
 __all__ = [
     "excluded_area",
@@ -23,15 +27,12 @@ __all__ = [
     "lattice_shifts",
     "normalized_excluded_area",
     "closed_excluded_area",
+    "closed_pair_excluded_area",
     "convex_excluded_area",
     "kinematic_integral",
 ]
 
 _AREA = {"units": "b^2"}
-
-
-def _cell_area(ds: xr.Dataset) -> float:
-    return float(ds.x[1] - ds.x[0]) * float(ds.y[1] - ds.y[0])
 
 
 def _excluded_states(allowed, axis=None):
@@ -41,12 +42,13 @@ def _excluded_states(allowed, axis=None):
 
 
 def excluded_area(ds: xr.Dataset, *, by: str | None = None):
-    """Excluded area of a scan, in b².
+    """Excluded area of a scan (or of a summary, which holds A_ex(φ)), in b².
 
     Parameters
     ----------
     ds : xarray.Dataset
-        A scan with ``allowed(phi, y, x)``.
+        A scan with ``allowed(phi, y, x)``, or a summary / analysis with
+        ``excluded_area(phi)``.
     by : {None, "phi"}
         None: the orientation average A_ex = (1/2π) ∫ A_ex(φ) dφ, a float.
         "phi": A_ex(φ) = ∫∫ [overlap] dx dy at each orientation, a DataArray.
@@ -58,11 +60,14 @@ def excluded_area(ds: xr.Dataset, *, by: str | None = None):
     >>> round(excluded_area(ds) / (4 * np.pi), 2)
     1.0
     """
+    check_choice("by", by, (None, "phi"))
+    if "allowed" not in ds:
+        if "excluded_area" not in ds or ds.excluded_area.dims != ("phi",):
+            raise ValueError("excluded_area needs a scan (allowed field) or a summary with excluded_area(phi)")
+        return float(ds.excluded_area.mean()) if by is None else ds.excluded_area
     if by is None:
-        return _cell_area(ds) * float(_excluded_states(ds.allowed.values)) / ds.sizes["phi"]
-    if by != "phi":
-        raise ValueError(f"by must be None or 'phi', got {by!r}")
-    per_phi = _excluded_states(ds.allowed.values, axis=(1, 2)) * _cell_area(ds)
+        return cell_area(ds) * float(_excluded_states(ds.allowed.values)) / ds.sizes["phi"]
+    per_phi = _excluded_states(ds.allowed.values, axis=(1, 2)) * cell_area(ds)
     return xr.DataArray(
         per_phi,
         coords={"phi": ds.phi},
@@ -84,21 +89,9 @@ def excluded_area_error(ds: xr.Dataset) -> float:
     mirror-symmetric fields the parity sub-grids are each other's mirror
     images and agree exactly.)
     """
-    from .scan import scan
-
-    coarse_grid = Grid(
-        max(ds.sizes["x"] // 2, 3),
-        max(ds.sizes["y"] // 2, 3),
-        max(ds.sizes["phi"] // 2, 1),
-        half_width=float(ds.attrs["half_width"]),
-    )
-    coarse = scan(
-        particle_from_attrs(ds.attrs, "particle"),
-        coarse_grid,
-        other=particle_from_attrs(ds.attrs, "other"),
-        segments=int(ds.attrs["particle_segments"]),
-    )
-    return abs(excluded_area(ds) - excluded_area(coarse))
+    grid = grid_of(ds)
+    coarse_grid = Grid(max(grid.nx // 2, 3), max(grid.ny // 2, 3), max(grid.nphi // 2, 1), half_width=grid.half_width)
+    return abs(excluded_area(ds) - excluded_area(scan(pair_of(ds), coarse_grid)))
 
 
 # R2 low-discrepancy sequence: steps 1/g and 1/g² with g the plastic number
@@ -124,25 +117,23 @@ def lattice_shifts(nphi: int) -> np.ndarray:
 def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, segments: int = DEFAULT_SEGMENTS):
     """A_ex(φ) counted on a lattice shifted afresh at each orientation, in b².
 
-    The stored ``allowed`` field uses one cell-centred lattice for every φ
-    (DESIGN.md §5), and its error in A_ex is mostly a bias shared by all
-    orientations: boundary arcs that stay put as φ turns (for the ASP, the
-    circle |t| = 2 around the centre) cut the same lattice at every φ, so the
-    errors add instead of averaging out. Here slice k's lattice is moved by
+    The stored ``allowed`` field uses one cell-centred lattice for every φ,
+    and its error in A_ex is mostly a bias shared by all orientations:
+    boundary arcs that stay put as φ turns (for the ASP, the circle |t| = 2
+    around the centre) cut the same lattice at every φ, so the errors add
+    instead of averaging out. Here slice k's lattice is moved by
     ``lattice_shifts(nphi)[k]`` cells (a low-discrepancy sequence), which
     turns that bias into an average over shifts; the average over all shifts
     of a lattice count is the area exactly. At the cost of a scan, the
-    orientation average comes much closer to the true value: for two circles
-    on 128² × 64, over ten times closer (``tests/test_measures.py``); for the
-    ASP at Ψ = π/2, within 3e-5 on every grid from 128² × 64 to 512² × 256,
-    where the fixed lattice is off by up to 1.6e-3
-    (``benchmarks/time_to_accuracy.py``). No field is stored: use
-    :func:`sesp.scan` for the allowed states themselves.
+    orientation average comes much closer to the true value
+    (``tests/test_measures.py``; ``benchmarks/time_to_accuracy.py`` has the
+    figures). No field is stored: use :func:`sesp.scan` for the allowed
+    states themselves.
 
     Parameters
     ----------
     particle, other, segments
-        As for :func:`sesp.scan`.
+        As for :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`).
     grid : Grid, optional
         Default ``Grid(256, nphi=128)``. Its box must reach half a cell beyond
         r₁ + r₂ (the default box reaches one cell beyond).
@@ -154,28 +145,18 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         average A_ex. Attribute ``error_estimate`` (b²) is half the difference
         between the averages over even and odd k: an indication, not a bound.
     """
-    from .scan import prepare
-
-    setup = prepare(particle, grid, other=other, segments=segments)
-    grid = setup.grid
-    if grid.half_width < setup.curve1.max_radius + setup.curve2.max_radius + 0.5 * max(grid.dx, grid.dy):
+    pair = as_pair(particle, other, segments)
+    grid = resolve_grid(pair, grid)
+    if grid.half_width < pair.reach + 0.5 * max(grid.dx, grid.dy):
         raise ValueError("shifted_excluded_area needs a box reaching half a cell beyond r1 + r2: use the default box")
     cos_phi, sin_phi = grid.rotations()
     shifts = lattice_shifts(grid.nphi) * [grid.dx, grid.dy]
-    stop = setup.computed_slices
+    stop = computed_slices(pair, grid)
     counts = np.zeros(grid.nphi, dtype=np.int64)
-    _kernels.shifted_overlap_counts(
-        setup.curve1.vertices,
-        setup.curve2.vertices,
-        cos_phi[:stop],
-        sin_phi[:stop],
-        grid.x,
-        grid.y,
-        shifts[:stop],
-        setup.delta,
-        counts[:stop],
+    counts[:stop] = overlap.lattice_overlap_counts(
+        pair.vertices1, pair.vertices2, cos_phi[:stop], sin_phi[:stop], grid.x, grid.y, shifts[:stop], pair.tolerance
     )
-    if setup.mirrored:
+    if stop < grid.nphi:  # the mirror images of the computed slices
         counts[stop:] = counts[1 : grid.nphi - stop + 1][::-1]
     per_phi = counts * (grid.dx * grid.dy)
     error = abs(per_phi[0::2].mean() - per_phi[1::2].mean()) / 2 if grid.nphi > 1 else math.nan
@@ -183,7 +164,10 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         **_AREA,
         "long_name": "excluded area at fixed orientation A_ex(φ), lattice shifted per φ",
         "error_estimate": error,
-        **setup.attrs(),
+        **base_attrs("sesp.scan"),
+        **pair_attrs(pair),
+        **grid_attrs(grid),
+        "engine": "raster",
     }
     attrs["sesp_format"] = "sesp.shifted_excluded_area"
     return xr.DataArray(
@@ -206,26 +190,25 @@ def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> floa
     return curve.area + other.area + curve.length * other.length / (2 * math.pi)
 
 
-def closed_excluded_area(ds: xr.Dataset) -> float:
-    """Orientation-averaged excluded area of the closed shape (Ψ = 0), in b².
+def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
+    """Orientation-averaged excluded area of ``pair`` with both SeSPs closed (Ψ = 0), in b².
 
     For identical SeSPs with n, m >= 1 (convex) this is exact:
-    2·Area + P²/2π of the closed polygon with the scan's segments. Otherwise
-    the closed shape(s) are scanned on the same grid.
+    2·Area + P²/2π of the closed polygon with the pair's segments. Otherwise
+    the closed shapes are scanned with ``grid``'s resolution (their own box).
     """
-    from .scan import scan
+    closed = pair.closed()
+    if pair.identical and pair.particle.is_convex_closed:
+        return convex_excluded_area(closed.curve1)
+    return excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
 
-    attrs = ds.attrs
-    first = particle_from_attrs(attrs, "particle")
-    second = particle_from_attrs(attrs, "other")
-    if not (isinstance(first, SeSP) and isinstance(second, SeSP)):
-        raise ValueError("the closed shape is defined for SeSPs only: pass reference= for a Polyline")
-    segments = int(attrs["particle_segments"])
-    if attrs["identical_particles"] and first.is_convex_closed:
-        return convex_excluded_area(first.closed().polyline(segments))
-    grid = Grid(ds.sizes["x"], ds.sizes["y"], ds.sizes["phi"])
-    closed = scan(first.closed(), grid, other=second.closed(), segments=segments)
-    return excluded_area(closed)
+
+def closed_excluded_area(ds: xr.Dataset) -> float:
+    """Orientation-averaged excluded area of the closed shape (Ψ = 0) of a scan or summary, in b².
+
+    See :func:`closed_pair_excluded_area`.
+    """
+    return closed_pair_excluded_area(pair_of(ds), grid_of(ds))
 
 
 def normalized_excluded_area(ds: xr.Dataset, *, by: str | None = None, reference: float | None = None):
@@ -259,6 +242,6 @@ def kinematic_integral(ds: xr.Dataset) -> tuple[float, float]:
     if "crossings" not in ds:
         raise ValueError("kinematic_integral needs the crossings field: scan with crossings=True")
     total = float(ds.crossings.values.sum(dtype=np.uint64))
-    measured = total * _cell_area(ds) * 2 * math.pi / ds.sizes["phi"]
+    measured = total * cell_area(ds) * 2 * math.pi / ds.sizes["phi"]
     exact = 4.0 * float(ds.attrs["particle_length"]) * float(ds.attrs["other_length"])
     return measured, exact

@@ -7,12 +7,17 @@ colormap.
 
 from __future__ import annotations
 
+import itertools
 import math
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from .shape import Polyline, SeSP, as_polyline
+from .dataset import SespFileError, particle_from_attrs
+from .io import load
+from .regions import position_summary
+from .shape import SeSP, as_polyline
 
 __all__ = [
     "draw_particle",
@@ -95,13 +100,14 @@ def shape_gallery(ns=(0.5, 1, 2, 4, 8), openings=(0, 60, 120, 180, 270), *, extr
 
 
 def _particle_of(ds, particle):
+    """The particle to draw on a map: given, else from the dataset's attributes or scalar coordinates."""
     if particle is not None:
         return particle
-    attrs = ds.attrs
-    if "particle_vertices" in attrs:
-        return Polyline(np.asarray(attrs["particle_vertices"]).reshape(-1, 2))
-    if attrs.get("particle_kind") == "SeSP":
-        return SeSP(**{k: float(attrs[f"particle_{k}"]) for k in ("n", "m", "aspect", "opening")})
+    if "particle_kind" in ds.attrs:
+        try:
+            return particle_from_attrs(ds.attrs, "particle")
+        except (SespFileError, KeyError):
+            pass
     coords = {k: float(ds[k]) for k in ("n", "opening") if k in ds.coords and ds[k].ndim == 0}
     if "n" in coords and "opening" in coords:
         return SeSP(n=coords["n"], opening=coords["opening"])
@@ -168,7 +174,7 @@ def allowed_map(
             rasterized=True,
         )
     elif style == "raster":
-        summary = ds if "allowed_fraction" in ds else _summary(ds)
+        summary = ds if "allowed_fraction" in ds else position_summary(ds)
         rgb = _orientation_colors(summary.allowed_fraction.values, summary.mean_orientation.values)
         ax.imshow(rgb, origin="lower", extent=extent, interpolation="nearest")
         art = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
@@ -185,12 +191,6 @@ def allowed_map(
         bar.ax.set_yticklabels(["0", "π/2", "π", "3π/2", "2π"])
     ax.set(xlim=extent[:2], ylim=extent[2:], xlabel="x / b", ylabel="y / b", aspect="equal")
     return ax
-
-
-def _summary(ds):
-    from .regions import position_summary
-
-    return position_summary(ds)
 
 
 def _opening_degrees(ds):
@@ -332,8 +332,6 @@ def map_grid(ds: xr.Dataset, *, style="dots", fig=None):
 
 
 def _product(ds, dims):
-    import itertools
-
     return itertools.product(*(ds[d].values for d in dims))
 
 
@@ -343,8 +341,6 @@ def render_figures(results, out) -> list:
     ``results`` holds one folder per sweep (``<results>/<name>/<name>.nc``);
     figures whose sweep has not been run are skipped. Returns the paths written.
     """
-    from pathlib import Path
-
     import matplotlib.pyplot as plt
 
     results, out = Path(results), Path(out)
@@ -354,7 +350,7 @@ def render_figures(results, out) -> list:
         source = None if sweep is None else results / sweep / f"{sweep}.nc"
         if source is not None and not source.is_file():
             continue
-        ds = None if source is None else xr.load_dataset(source)
+        ds = None if source is None else load(source)
         fig = figure(kind, ds)
         fig.savefig(out / name, dpi=110)
         plt.close(fig)

@@ -1,4 +1,4 @@
-"""Position classes: free, spooning, entangled, excluded (DESIGN.md §3).
+"""Position classes: free, spooning, entangled, excluded.
 
 Per position (x, y) of particle 2's centre, over all orientations φ:
 
@@ -11,8 +11,9 @@ Per position (x, y) of particle 2's centre, over all orientations φ:
 ``free`` takes precedence over ``entangled``: a position where every
 orientation is allowed is free even if some of them entangle.
 
-Everything here is a per-position reduction over φ, so it can be computed
-chunk by chunk (:func:`summarize`) without holding the (phi, y, x) field.
+Everything here is a per-position reduction over φ (:class:`PositionSummary`),
+so it can be computed chunk by chunk (:func:`summarize`) without holding the
+(phi, y, x) field.
 """
 
 from __future__ import annotations
@@ -22,45 +23,61 @@ import math
 import numpy as np
 import xarray as xr
 
+from .dataset import coords, grid_of
+from .field import Slices, reduce, resolve_grid
 from .grid import Grid
+from .pair import as_pair
+from .reductions import ExcludedAreaByPhi, Reduction
 from .shape import DEFAULT_SEGMENTS
 
-__all__ = ["CLASSES", "classify", "position_summary", "summarize", "allowed_orientations", "blocked_orientations"]
-
-# Gaps between blocked-orientation intervals narrower than this (radians)
-# are rounding at shared end points, not allowed orientations.
-ANGLE_GAP = 1e-9
-# Width (b) by which the pair screen of the exact orientation kernel is widened.
-SCREEN_SLACK = 1e-9
+__all__ = ["CLASSES", "PositionSummary", "classify", "position_summary", "summarize", "class_attrs"]
 
 CLASSES = ("free", "spooning", "entangled", "excluded")
 FREE, SPOONING, ENTANGLED, EXCLUDED = range(4)
 
 
-class _Accumulator:
-    """Running per-position sums over orientation chunks."""
+def class_attrs() -> dict:
+    """CF attributes of a ``classes`` variable."""
+    return {
+        "flag_values": np.arange(len(CLASSES), dtype=np.int8),
+        "flag_meanings": " ".join(CLASSES),
+        "long_name": "position class",
+    }
 
-    def __init__(self, phi, ny, nx, with_entangled):
-        self.phi = np.asarray(phi)
-        self.count = np.zeros((ny, nx), dtype=np.int64)
-        self.cos = np.zeros((ny, nx))
-        self.sin = np.zeros((ny, nx))
-        self.tangled = np.zeros((ny, nx), dtype=bool) if with_entangled else None
-        self.excluded_per_phi = np.zeros(len(self.phi), dtype=np.int64)
 
-    def add(self, k0, allowed, entangled=None):
-        """Fold in orientations k0 .. k0 + len(allowed) - 1 (serially: deterministic)."""
-        phi = self.phi[k0 : k0 + allowed.shape[0]]
+class PositionSummary(Reduction):
+    """Running per-position sums over orientation chunks: fractions, mean orientation, classes, A_ex(φ).
+
+    With ``entangled`` False the entanglement test is not run and no position
+    is ``entangled`` (they are ``spooning``).
+    """
+
+    def __init__(self, entangled: bool = True):
+        self.entangled = bool(entangled)
+        self.fields = ("allowed", "entangled") if entangled else ("allowed",)
+        self.by_phi = ExcludedAreaByPhi()
+
+    def start(self, pair, grid):
+        self.phi = grid.phi
+        self.count = np.zeros((grid.ny, grid.nx), dtype=np.int64)
+        self.cos = np.zeros((grid.ny, grid.nx))
+        self.sin = np.zeros((grid.ny, grid.nx))
+        self.tangled = np.zeros((grid.ny, grid.nx), dtype=bool) if self.entangled else None
+        self.by_phi.start(pair, grid)
+
+    def add(self, part):
+        """Fold in orientations part.k0 .. part.k1 - 1 (serially: deterministic)."""
+        allowed = part.allowed
         self.count += np.count_nonzero(allowed, axis=0)
         # one orientation at a time, in order: no BLAS, so sums do not depend on threads
-        for k, angle in enumerate(phi):
+        for k, angle in enumerate(self.phi[part.k0 : part.k1]):
             self.cos[allowed[k]] += math.cos(angle)
             self.sin[allowed[k]] += math.sin(angle)
-        self.excluded_per_phi[k0 : k0 + allowed.shape[0]] = allowed[0].size - np.count_nonzero(allowed, axis=(1, 2))
-        if self.tangled is not None and entangled is not None:
-            self.tangled |= entangled.any(axis=0)
+        self.by_phi.add(part)
+        if self.tangled is not None and part.entangled is not None:
+            self.tangled |= part.entangled.any(axis=0)
 
-    def classes(self):
+    def classes(self) -> np.ndarray:
         nphi = len(self.phi)
         out = np.full(self.count.shape, SPOONING, dtype=np.int8)
         if self.tangled is not None:
@@ -69,15 +86,15 @@ class _Accumulator:
         out[self.count == 0] = EXCLUDED
         return out
 
-    def dataset(self, x, y, attrs) -> xr.Dataset:
+    def finish(self):
         nphi = len(self.phi)
         strength = np.where(self.count > 0, np.hypot(self.sin, self.cos) / np.maximum(self.count, 1), np.nan)
         # A vanishing resultant (e.g. every φ allowed) has no direction.
         defined = strength > 1e-9
         mean = np.where(defined, np.mod(np.arctan2(self.sin, self.cos), 2 * math.pi), np.nan)
         dims = ("y", "x")
-        cell = float(x[1] - x[0]) * float(y[1] - y[0])
-        data = {
+        flags = class_attrs() if self.entangled else {**class_attrs(), "comment": "entangled not computed"}
+        return {
             "allowed_fraction": (
                 dims,
                 self.count / nphi,
@@ -89,26 +106,9 @@ class _Accumulator:
                 {"units": "rad", "long_name": "circular mean of allowed φ (NaN: none or no direction)"},
             ),
             "orientation_order": (dims, strength, {"units": "1", "long_name": "mean resultant length of allowed φ"}),
-            "excluded_area": (("phi",), self.excluded_per_phi * cell, {"units": "b^2", "long_name": "A_ex(φ)"}),
+            **self.by_phi.finish(),
+            "classes": (dims, self.classes(), flags),
         }
-        flags = _flag_attrs() if self.tangled is not None else {**_flag_attrs(), "comment": "entangled not computed"}
-        data["classes"] = (dims, self.classes(), flags)
-        coords = {
-            "y": ("y", y, {"units": "b"}),
-            "x": ("x", x, {"units": "b"}),
-            "phi": ("phi", self.phi, {"units": "rad"}),
-        }
-        summary_attrs = {k: v for k, v in attrs.items() if k != "allowed_sha256"}
-        summary_attrs["sesp_format"] = "sesp.summary"
-        return xr.Dataset(data, coords=coords, attrs=summary_attrs)
-
-
-def _flag_attrs() -> dict:
-    return {
-        "flag_values": np.arange(len(CLASSES), dtype=np.int8),
-        "flag_meanings": " ".join(CLASSES),
-        "long_name": "position class",
-    }
 
 
 def position_summary(ds: xr.Dataset) -> xr.Dataset:
@@ -124,9 +124,15 @@ def position_summary(ds: xr.Dataset) -> xr.Dataset:
         Positions can be ``entangled`` only if the scan has the ``entangled``
         field; otherwise they are ``spooning``.
     """
-    acc = _Accumulator(ds.phi.values, ds.sizes["y"], ds.sizes["x"], "entangled" in ds)
-    acc.add(0, ds.allowed.values, ds.entangled.values if "entangled" in ds else None)
-    return acc.dataset(ds.x.values, ds.y.values, ds.attrs)
+    grid = grid_of(ds)
+    summary = PositionSummary("entangled" in ds)
+    summary.start(None, grid)
+    tangled = ds.entangled.values if "entangled" in ds else None
+    summary.add(Slices(0, grid.nphi, ds.allowed.values, None, tangled))
+    attrs = {k: v for k, v in ds.attrs.items() if k != "allowed_sha256"}
+    attrs["sesp_format"] = "sesp.summary"
+    variables = summary.finish()
+    return xr.Dataset(variables, coords=coords(grid), attrs=attrs)
 
 
 def classify(ds: xr.Dataset) -> xr.DataArray:
@@ -166,75 +172,12 @@ def summarize(
     Parameters
     ----------
     particle, grid, other, segments
-        As in :func:`sesp.scan`.
+        As in :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`).
     entangled : bool
         Compute the entanglement test (needed for the ``entangled`` class).
     chunk : int, optional
         Orientations per chunk; by default about 128 MiB of working memory.
     """
-    from .scan import iter_slices, prepare
-
-    setup = prepare(particle, grid, other=other, segments=segments)
-    g = setup.grid
-    acc = _Accumulator(g.phi, g.ny, g.nx, entangled)
-    for part in iter_slices(setup, entangled=entangled, chunk=chunk, progress=progress):
-        acc.add(part.k0, part.allowed, part.entangled)
-    return acc.dataset(g.x, g.y, setup.attrs())
-
-
-def _vertices(particle, other, segments):
-    """The pair's polyline vertices, as the exact orientation kernels take them."""
-    from .scan import _curves
-
-    return tuple(np.ascontiguousarray(curve.vertices) for curve in _curves(particle, other, segments))
-
-
-def blocked_orientations(particle, x: float, y: float, *, other=None, segments: int = DEFAULT_SEGMENTS):
-    """The orientations φ at which particle 2, centred at (x, y), meets particle 1: exact in φ.
-
-    No orientation grid: for every pair of segments the set of φ where they
-    meet is bounded by roots of sinusoids in φ, found in closed form, so the
-    result is exact for the two polylines up to rounding.
-
-    Returns
-    -------
-    (k, 2) ndarray
-        Sorted, possibly overlapping intervals [start, end] of φ in [0, 2π], radians.
-    """
-    from . import _kernels
-
-    v1, v2 = _vertices(particle, other, segments)
-    starts, ends = _kernels.blocked_angles(v1, v2, float(x), float(y), SCREEN_SLACK)
-    return np.column_stack([starts, ends])
-
-
-def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> np.ndarray:
-    """Measure of the allowed orientations at each position, exact in φ (radians, 0 to 2π).
-
-    A position is excluded exactly when the result is 0. Unlike a scan this
-    samples no orientations, so no narrow allowed interval of φ is missed;
-    gaps narrower than ``ANGLE_GAP`` (1e-9 rad) between blocked intervals
-    count as closed. Cost: a few thousand segment pairs per position.
-
-    Parameters
-    ----------
-    particle, other, segments
-        As in :func:`sesp.scan`.
-    x, y : array_like
-        Positions of particle 2's centre, in b; broadcast together.
-    """
-    from . import _kernels
-
-    v1, v2 = _vertices(particle, other, segments)
-    xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-    out = np.empty(xs.size)
-    _kernels.allowed_angle_at(
-        v1,
-        v2,
-        xs.ravel().copy(),
-        ys.ravel().copy(),  # owned, writeable copies
-        SCREEN_SLACK,
-        ANGLE_GAP,
-        out,
-    )
-    return out.reshape(xs.shape)
+    pair = as_pair(particle, other, segments)
+    grid = resolve_grid(pair, grid)
+    return reduce(pair, grid, [PositionSummary(entangled)], kind="sesp.summary", chunk=chunk, progress=progress)

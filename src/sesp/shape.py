@@ -11,26 +11,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SeSP", "Polyline", "as_polyline", "particle_from_attrs"]
+from .checks import check_opening, check_positive, check_segments
+
+__all__ = ["SeSP", "Polyline", "as_polyline", "convex_hull", "DEFAULT_SEGMENTS"]
 
 DEFAULT_SEGMENTS = 256
 
 # Dense sampling for the arc-length table: chords are refined until none is
 # longer than this fraction of the curve length.
 _DENSE_CHORD = 2.0**-16
-
-
-def check_positive(name: str, value) -> float:
-    value = float(value)
-    if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return value
-
-
-def _check_segments(segments) -> int:
-    if isinstance(segments, bool) or int(segments) != segments or segments < 1:
-        raise ValueError(f"segments must be an integer >= 1, got {segments!r}")
-    return int(segments)
 
 
 class Polyline:
@@ -198,10 +187,7 @@ class SeSP:
         m = self.n if self.m is None else check_positive("m", self.m)
         object.__setattr__(self, "m", m)
         object.__setattr__(self, "aspect", check_positive("aspect", self.aspect))
-        opening = float(self.opening)
-        if not (math.isfinite(opening) and 0.0 <= opening < 2 * math.pi):
-            raise ValueError(f"opening must be in [0, 2π) radians, got {self.opening!r}")
-        object.__setattr__(self, "opening", opening)
+        object.__setattr__(self, "opening", check_opening(self.opening))
 
     def closed(self) -> SeSP:
         """The same shape with no opening (Ψ = 0)."""
@@ -307,7 +293,7 @@ class SeSP:
         Polyline
             N + 1 vertices; for Ψ = 0 the last equals the first.
         """
-        n_seg = _check_segments(segments)
+        n_seg = check_segments(segments)
         theta, arc = self._upper_arc_table()
         half = arc[-1]
         # Arc length s_k = k L / N; the point at L - s is the mirror of the point at s.
@@ -328,30 +314,3 @@ def as_polyline(particle, segments: int = DEFAULT_SEGMENTS) -> Polyline:
     if isinstance(particle, SeSP):
         return particle.polyline(segments)
     raise TypeError(f"particle must be a SeSP or a Polyline, got {type(particle).__name__}")
-
-
-def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
-    """Attributes that describe ``particle`` and its polyline, keys prefixed."""
-    attrs = {f"{prefix}_kind": type(particle).__name__}
-    if isinstance(particle, SeSP):
-        attrs.update({f"{prefix}_{k}": getattr(particle, k) for k in ("n", "m", "aspect", "opening")})
-    attrs[f"{prefix}_segments"] = curve.segments
-    attrs[f"{prefix}_length"] = curve.length
-    attrs[f"{prefix}_max_radius"] = curve.max_radius
-    attrs[f"{prefix}_vertices"] = curve.vertices.ravel().copy()
-    return attrs
-
-
-def particle_from_attrs(attrs, prefix: str = "particle"):
-    """The SeSP or Polyline described by :func:`particle_attrs`."""
-    kind = attrs.get(f"{prefix}_kind")
-    if kind == "SeSP":
-        return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in ("n", "m", "aspect", "opening")})
-    if kind == "Polyline":
-        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))
-    raise ValueError(f"attribute {prefix}_kind must be 'SeSP' or 'Polyline', got {kind!r}")
-
-
-def curve_from_attrs(attrs, prefix: str = "particle") -> Polyline:
-    """The polyline actually scanned, as stored in the attributes."""
-    return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))

@@ -24,12 +24,21 @@ Sweep file
     [other]                     # optional: a different second particle (mixtures)
     n = 4
 
+A particle given by its vertices instead (needles, staples, any thin
+polyline; in b, in the particle's own frame) takes ``vertices`` in place of
+the shape keys, in ``[particle]`` or ``[other]``:
+
+.. code-block:: toml
+
+    [particle]
+    vertices = [[-1.0, 0.0], [1.0, 0.0]]
+
     [grid]
     nx = 128
     nphi = 64                   # ny optional
 
     [output]
-    keep = ["excluded_area", "classes", "topology"]   # and/or "allowed"
+    keep = ["excluded_area", "classes", "topology"]   # and/or "allowed" (the field)
 
 Ranges are ``{start, stop, step}`` or ``{start, stop, num}``.
 """
@@ -41,35 +50,41 @@ import itertools
 import json
 import logging
 import math
+import multiprocessing
 import os
+import time
 import tomllib
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
+import numba
 import numpy as np
 import xarray as xr
 
-from ._version import __version__
+from .analysis import KEEP, analyze, check_keep
+from .dataset import base_attrs
 from .grid import Grid
 from .io import load, save
-from .shape import DEFAULT_SEGMENTS, SeSP
+from .pair import Pair
+from .progress import progress_bar
+from .regions import summarize
+from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
 
-__all__ = ["SweepSpec", "load_spec", "run", "collect", "compute_point", "KEEP"]
+__all__ = ["SweepSpec", "SweepPoint", "load_spec", "run", "collect", "compute_point", "KEEP"]
 
 log = logging.getLogger(__name__)
 
-KEEP = ("excluded_area", "classes", "topology", "allowed")
 SHAPE_KEYS = ("n", "m", "aspect", "opening")
 SCHEMA = {
     "sweep": {"name": str, "output": str, "angles": str},
-    "particle": {"n": float, "m": float, "aspect": float, "opening": float, "segments": int},
-    "other": {"n": float, "m": float, "aspect": float, "opening": float},
+    "particle": {"n": float, "m": float, "aspect": float, "opening": float, "segments": int, "vertices": list},
+    "other": {"n": float, "m": float, "aspect": float, "opening": float, "vertices": list},
     "grid": {"nx": int, "ny": int, "nphi": int},
     "output": {"keep": list},
 }
 REQUIRED = {"sweep": ("output", "angles"), "particle": ("n", "opening"), "grid": ("nx", "nphi")}
 MANIFEST = "sweep.json"
-COMPONENTS_KEPT = 4  # areas of the largest excluded components stored per point
 
 
 class SweepError(ValueError):
@@ -113,6 +128,16 @@ def _values(path, section, key, raw, kind):
     return tuple(out)
 
 
+def _vertices(path, section, raw) -> tuple:
+    """A polyline's vertices from a sweep file: one value (not swept), a tuple of (x, y) pairs."""
+    where = f"{path}: [{section}] vertices"
+    try:
+        polyline = Polyline(raw)
+    except (ValueError, TypeError) as err:
+        raise SweepError(f"{where}: {err}") from None
+    return tuple(tuple(float(c) for c in v) for v in polyline.vertices)
+
+
 def _check_schema(path, doc):
     for section, body in doc.items():
         if section not in SCHEMA:
@@ -123,8 +148,11 @@ def _check_schema(path, doc):
             if key not in SCHEMA[section]:
                 raise SweepError(f"{path}: unknown key {key!r} in [{section}]; allowed: {', '.join(SCHEMA[section])}")
     for section, keys in REQUIRED.items():
+        body = doc.get(section, {})
+        if section == "particle" and "vertices" in body:
+            keys = ()
         for key in keys:
-            if key not in doc.get(section, {}):
+            if key not in body:
                 raise SweepError(f"{path}: missing key {key!r} in [{section}]")
 
 
@@ -159,11 +187,11 @@ class SweepSpec:
         return {d: list(axes[d]) for d in self.dims}
 
     def fixed(self) -> dict:
-        """Parameters that take a single value, by name."""
-        return {k: v[0] for k, v in self._axes().items() if len(v) == 1}
+        """Parameters that take a single value, by name (a polyline's vertices excepted)."""
+        return {k: v[0] for k, v in self._axes().items() if len(v) == 1 and not k.endswith("vertices")}
 
-    def points(self) -> list[dict]:
-        """Every parameter point, in a stable order, each with its index and hash."""
+    def points(self) -> list[SweepPoint]:
+        """Every parameter point, in a stable order, each with its index."""
         axes = self._axes()
         names = list(axes)
         out = []
@@ -171,17 +199,71 @@ class SweepSpec:
             values = dict(zip(names, combo))
             particle = {k: values[k] for k in self.particle}
             other = {k[6:]: values[k] for k in axes if k.startswith("other_")} or None
-            index = [axes[d].index(values[d]) for d in self.dims]
-            point = {"particle": particle, "other": other, "grid": self.grid, "keep": list(self.keep)}
-            point["hash"] = point_hash(point)
-            point["index"] = index
-            out.append(point)
+            index = tuple(axes[d].index(values[d]) for d in self.dims)
+            out.append(SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index))
         return out
 
 
-def point_hash(point: dict) -> str:
+@dataclass(frozen=True)
+class SweepPoint:
+    """One parameter point of a sweep: the two particles' parameters, the grid, what to keep.
+
+    Angles are in radians. ``index`` is the point's position along the
+    sweep's swept dimensions; :attr:`hash` names its file.
+    """
+
+    particle: dict
+    other: dict | None
+    grid: dict
+    keep: tuple
+    index: tuple = ()
+
+    def payload(self) -> dict:
+        """What the point's results depend on (the input of :attr:`hash`)."""
+        return {"particle": self.particle, "other": self.other, "grid": self.grid, "keep": list(self.keep)}
+
+    @property
+    def hash(self) -> str:
+        """Stable 16-hex-digit name of the point."""
+        return point_hash(self.payload())
+
+    def to_json(self) -> str:
+        return json.dumps({**self.payload(), "hash": self.hash, "index": list(self.index)})
+
+    def particles(self) -> tuple:
+        """(particle, other or None): SeSPs from shape keys, Polylines from vertices.
+
+        ``other`` takes the particle's shape keys it does not set itself (a
+        new ``n`` without ``m`` sets ``m`` too).
+        """
+        particle = _particle(self.particle)
+        if not self.other:
+            return particle, None
+        if "vertices" in self.other:
+            return particle, _particle(self.other)
+        shape = {k: self.particle[k] for k in SHAPE_KEYS if k in self.particle}
+        merged = {**shape, **self.other}
+        if "n" in self.other and "m" not in self.other:
+            merged.pop("m", None)
+        return particle, _particle(merged)
+
+    def pair(self) -> Pair:
+        particle, other = self.particles()
+        return Pair.of(particle, other, segments=self.particle.get("segments", DEFAULT_SEGMENTS))
+
+
+def _particle(params: dict):
+    shape = {k: params[k] for k in SHAPE_KEYS if k in params}
+    if "vertices" in params:
+        if shape:
+            raise ValueError(f"give vertices or the shape keys {SHAPE_KEYS}, not both (got {sorted(shape)})")
+        return Polyline(params["vertices"])
+    return SeSP(**shape)
+
+
+def point_hash(payload: dict) -> str:
     """Stable 16-hex-digit name of a parameter point (angles in radians)."""
-    payload = {k: point[k] for k in ("particle", "other", "grid", "keep")}
+    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep")}
     payload["format"] = 1
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -220,7 +302,10 @@ def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> Sw
         body = doc.get(name)
         if body is None:
             return None
-        vals = {k: _values(path, name, k, v, SCHEMA[name][k]) for k, v in body.items()}
+        vals = {
+            k: (_vertices(path, name, v),) if k == "vertices" else _values(path, name, k, v, SCHEMA[name][k])
+            for k, v in body.items()
+        }
         if "opening" in vals:
             vals["opening"] = tuple(to_rad(v) for v in vals["opening"])
         return vals
@@ -232,10 +317,10 @@ def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> Sw
     for k, v in doc["grid"].items():
         if isinstance(v, (list, dict)):
             raise SweepError(f"{path}: [grid] {k} must be a single integer")
-    keep = tuple(doc.get("output", {}).get("keep", ["excluded_area"]))
-    unknown = [k for k in keep if k not in KEEP]
-    if unknown or not keep:
-        raise SweepError(f"{path}: [output] keep must list some of {KEEP}, got {list(keep)}")
+    try:
+        keep = check_keep(doc.get("output", {}).get("keep", ["excluded_area"]))
+    except ValueError as err:
+        raise SweepError(f"{path}: [output] {err}") from None
     spec = SweepSpec(
         name=str(doc["sweep"].get("name", path.stem)),
         output=_resolve_output(path, str(output or doc["sweep"]["output"]), base and Path(base)),
@@ -254,90 +339,33 @@ def _check_values(path, spec: SweepSpec):
     try:
         Grid(**spec.grid)
         for point in spec.points():
-            _particles(point)
-            segments = point["particle"]["segments"]
-            if segments < 1:
-                raise ValueError(f"segments must be an integer >= 1, got {segments}")
+            point.pair()
     except ValueError as err:
         raise SweepError(f"{path}: {err}") from None
     if not spec.name or "/" in spec.name or spec.name.startswith("."):
         raise SweepError(f"{path}: [sweep] name must be a plain file name, got {spec.name!r}")
 
 
-def _particles(point):
-    shape = {k: point["particle"][k] for k in SHAPE_KEYS if k in point["particle"]}
-    particle = SeSP(**shape)
-    other = None
-    if point["other"]:
-        merged = {**shape, **point["other"]}
-        if "n" in point["other"] and "m" not in point["other"]:
-            merged.pop("m", None)
-        other = SeSP(**merged)
-    return particle, other
-
-
 def common_half_width(spec: SweepSpec) -> float:
     """One box for every point (the largest needed), so maps share coordinates."""
     grid = Grid(**spec.grid)
     cells = min(grid.nx, grid.ny)
-    reach = 0.0
-    for point in spec.points():
-        particle, other = _particles(point)
-        segments = point["particle"]["segments"]
-        r1 = particle.polyline(segments).max_radius
-        r2 = r1 if other is None else other.polyline(segments).max_radius
-        reach = max(reach, r1 + r2)
+    reach = max(point.pair().reach for point in spec.points())
     return reach * cells / (cells - 2)
 
 
-def compute_point(point: dict) -> xr.Dataset:
-    """The reduced results of one parameter point, as a Dataset."""
-    from .measures import closed_excluded_area
-    from .regions import position_summary, summarize
-    from .scan import scan
-    from .topology import excluded_components
-
-    particle, other = _particles(point)
-    grid = Grid(**point["grid"])
-    segments = point["particle"]["segments"]
-    keep = point["keep"]
-    want_classes = "classes" in keep
-    field = None
-    if "allowed" in keep:
-        field = scan(particle, grid, other=other, segments=segments, entangled=want_classes)
-        summary = position_summary(field)
-    else:
-        summary = summarize(particle, grid, other=other, segments=segments, entangled=want_classes)
-    out = xr.Dataset(coords={"phi": summary.phi})
-    reference = closed_excluded_area(summary)
-    area = summary.excluded_area
-    out["excluded_area"] = area
-    out["normalized_excluded_area"] = (area / reference).assign_attrs(units="1", long_name="A_ex(φ) / A_ex(closed)")
-    out["mean_excluded_area"] = area.mean("phi").assign_attrs(units="b^2", long_name="orientation-averaged A_ex")
-    out["mean_normalized_excluded_area"] = (area.mean("phi") / reference).assign_attrs(units="1")
-    out["closed_excluded_area"] = xr.DataArray(reference, attrs={"units": "b^2"})
-    if want_classes:
-        for name in ("classes", "allowed_fraction", "mean_orientation"):
-            out[name] = summary[name]
-    if "topology" in keep:
-        comps = excluded_components(summary)
-        areas = np.full(COMPONENTS_KEPT, np.nan)
-        areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
-        out["excluded_components"] = xr.DataArray(
-            comps.count, attrs={"long_name": "robust count of excluded components"}
-        )
-        out["component_area"] = xr.DataArray(
-            areas, dims="component", attrs={"units": "b^2", "long_name": "areas, largest first"}
-        )
-    if field is not None:
-        out["allowed"] = field.allowed
-    out.attrs = {k: v for k, v in summary.attrs.items() if not k.endswith("_vertices")}
-    out.attrs.update({"sesp_format": "sesp.point", "point_hash": point["hash"], "point": json.dumps(point)})
+def compute_point(point: SweepPoint) -> xr.Dataset:
+    """The results of one parameter point (:func:`sesp.analyze`), labelled as a sweep point."""
+    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep)
+    # a SeSP is rebuilt from its parameters; a polyline's vertices must stay
+    attrs = out.attrs
+    kept = {k: v for k, v in attrs.items() if not (k.endswith("_vertices") and attrs[f"{k[:-9]}_kind"] == "SeSP")}
+    out.attrs = {**kept, **base_attrs("sesp.point"), "point_hash": point.hash, "point": point.to_json()}
     return out
 
 
 def _lock_path(folder, point) -> Path:
-    return Path(folder) / f".{point['hash']}.lock"
+    return Path(folder) / f".{point.hash}.lock"
 
 
 def _claim(folder, point) -> bool:
@@ -379,7 +407,7 @@ def run_point(point: dict, folder: str) -> str | None:
 
     Returns None, computing nothing, when another live runner holds the point.
     """
-    path = Path(folder) / f"{point['hash']}.nc"
+    path = Path(folder) / f"{point.hash}.nc"
     if not _claim(folder, point):
         return None
     try:
@@ -401,17 +429,13 @@ def _finished(path: Path) -> bool:
         return False
 
 
-def _warm_up():
+def warm_up():
     """Compile (or load from cache) every kernel once, before fanning out."""
-    from .regions import summarize
-
     summarize(SeSP(n=2, opening=1.0), Grid(8, nphi=2), segments=4, entangled=True)
     return os.getpid()
 
 
 def _init_worker(threads: int):
-    import numba
-
     numba.set_num_threads(max(1, threads))
 
 
@@ -421,9 +445,6 @@ def _execute_local(todo, folder, workers, bar):
             run_point(point, str(folder))
             bar.update()
         return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     threads = max(1, (os.cpu_count() or 1) // workers)
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
     with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads,)) as pool:
@@ -438,7 +459,7 @@ def _execute_dask(todo, folder, scheduler, bar):
     except ImportError:
         raise SweepError("--scheduler needs dask.distributed: pip install 'sesp[dask]'") from None
     with Client(scheduler) as client:
-        client.run(_warm_up)
+        client.run(warm_up)
         futures = client.map(run_point, todo, folder=str(folder), pure=False)
         for future in as_completed(futures):
             future.result()
@@ -452,7 +473,7 @@ def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
         "dims": spec.dims,
         "coords": spec.coords(),
         "fixed": spec.fixed(),
-        "points": [{"index": p["index"], "hash": p["hash"]} for p in points],
+        "points": [{"index": list(p.index), "hash": p.hash} for p in points],
         "keep": list(spec.keep),
         "source": spec.source,
     }
@@ -490,21 +511,18 @@ def run(
     Path or None
         The collected file ``<output>/<name>.nc``.
     """
-    from tqdm.auto import tqdm
-
     spec = load_spec(path, output=output)
     spec = _with_common_box(spec)
     points = spec.points()
     folder = spec.output
     folder.mkdir(parents=True, exist_ok=True)
     write_manifest(spec, points, folder)
-    todo = [p for p in points if not _finished(folder / f"{p['hash']}.nc")]
+    todo = [p for p in points if not _finished(folder / f"{p.hash}.nc")]
     log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
     if todo:
-        _warm_up()
-        with tqdm(
-            total=len(points), initial=len(points) - len(todo), disable=not progress, unit="point", desc=spec.name
-        ) as bar:
+        warm_up()
+        done = len(points) - len(todo)
+        with progress_bar(len(points), progress, spec.name, unit="point", initial=done, leave=True) as bar:
             if scheduler:
                 _execute_dask(todo, folder, scheduler, bar)
             else:
@@ -520,10 +538,8 @@ def run(
 
 def _wait_for_others(points, folder, poll=0.2):
     """Finish points that another runner held: wait while it lives, else compute them."""
-    import time
-
     for point in points:
-        path = folder / f"{point['hash']}.nc"
+        path = folder / f"{point.hash}.nc"
         while not _finished(path):
             if run_point(point, str(folder)) is None:
                 time.sleep(poll)
@@ -583,9 +599,7 @@ def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:
         var = first[name]
         variables[name] = (tuple(dims) + var.dims, array, var.attrs)
     attrs = {
-        "sesp_format": "sesp.sweep",
-        "sesp_format_version": 1,
-        "sesp_version": __version__,
+        **base_attrs("sesp.sweep"),
         "sweep_name": manifest["name"],
         "sweep_file": manifest["source"],
     }

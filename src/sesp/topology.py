@@ -32,8 +32,8 @@ s < ``ratio`` · p, and merges otherwise. Components whose peak is below
   which moves with h (for the ASP, toward the exact Ψ = π as h shrinks);
 * a pinch behind an allowed wedge of small angle Ψ is a junction about h/Ψ
   nodes across, so a split as Ψ → 0⁺ is seen once the wedge is resolved,
-  at a Ψ that depends on the grid even though both bodies are thick (n = 8:
-  3.75°–5° on 256², 0°–1.25° on 257²; ``benchmarks/topology_parity.py``).
+  at a Ψ that depends on the grid even though both bodies are thick
+  (``benchmarks/topology_parity.py`` measures it on even and odd grids).
 
 φ is periodic: a component that wraps through φ = 0 is one component.
 
@@ -64,7 +64,14 @@ import numpy as np
 import xarray as xr
 from scipy import ndimage
 
+from .dataset import cell_area
+from .field import scan
 from .grid import Grid
+from .kernels import labels as label_kernels
+from .orientations import allowed_orientations
+from .pair import as_pair
+from .progress import progress_iter
+from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, SeSP
 
 __all__ = [
@@ -74,7 +81,6 @@ __all__ = [
     "state_components",
     "find_transitions",
     "topology_profile",
-    "format_result",
     "QUANTITIES",
     "AxisProfile",
     "axis_profile",
@@ -173,8 +179,6 @@ def components(
     -------
     Components
     """
-    from . import _kernels
-
     mask = np.asarray(mask, dtype=bool)
     periodic = tuple(sorted({a % mask.ndim for a in periodic}))
     if periodic not in ((), (0,)):
@@ -183,8 +187,7 @@ def components(
     nodes = np.flatnonzero(mask.ravel())
     order = nodes[np.argsort(-dist[nodes], kind="stable")]
     shape = np.array((1,) * (3 - mask.ndim) + mask.shape, dtype=np.int64)
-    labels = np.zeros(mask.size, dtype=np.int64)
-    _kernels.persistent_components(dist, order, shape, bool(periodic), float(ratio), float(min_peak), labels)
+    labels, _ = label_kernels.persistent_labels(dist, order, shape, bool(periodic), float(ratio), float(min_peak))
     return _renumber(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape))
 
 
@@ -202,10 +205,6 @@ def _renumber(labels, mask, measure, dist) -> Components:
     return Components(new, sizes[keep], float(measure), unassigned, peaks)
 
 
-def _cell_area(ds) -> float:
-    return float(ds.x[1] - ds.x[0]) * float(ds.y[1] - ds.y[0])
-
-
 def excluded_components(ds: xr.Dataset, **kwargs) -> Components:
     """Components of the excluded positions (no orientation allowed), in the plane.
 
@@ -215,7 +214,7 @@ def excluded_components(ds: xr.Dataset, **kwargs) -> Components:
         excluded = ds.allowed_fraction.values == 0
     else:
         excluded = ~ds.allowed.values.any(axis=0)
-    return components(excluded, outside=False, measure=_cell_area(ds), **kwargs)
+    return components(excluded, outside=False, measure=cell_area(ds), **kwargs)
 
 
 def state_components(ds: xr.Dataset, which: str = "allowed", **kwargs) -> Components:
@@ -228,7 +227,7 @@ def state_components(ds: xr.Dataset, which: str = "allowed", **kwargs) -> Compon
         raise ValueError(f"which must be 'allowed' or 'entangled', got {which!r}")
     if which not in ds:
         raise ValueError(f"the dataset has no {which!r} field: scan with {which}=True")
-    measure = _cell_area(ds) * 2 * math.pi / ds.sizes["phi"]
+    measure = cell_area(ds) * 2 * math.pi / ds.sizes["phi"]
     return components(ds[which].values, periodic=(0,), outside=(which == "allowed"), measure=measure, **kwargs)
 
 
@@ -244,9 +243,6 @@ def _family(family):
 
 
 def _count(make, opening, quantity, grid, segments) -> Components:
-    from .regions import summarize
-    from .scan import scan
-
     particle = make(opening)
     if quantity == "excluded":
         return excluded_components(summarize(particle, grid, segments=segments, entangled=False))
@@ -307,9 +303,7 @@ class TopologyResult:
 
 
 def _profile(make, openings, quantity, grid, segments, progress) -> list:
-    from tqdm.auto import tqdm
-
-    return [_count(make, o, quantity, grid, segments) for o in tqdm(openings, disable=not progress, desc="Ψ")]
+    return [_count(make, o, quantity, grid, segments) for o in progress_iter(openings, progress, "Ψ")]
 
 
 def topology_profile(
@@ -471,69 +465,6 @@ def _rebracket(make, coarse, quantity, grid, segments, step, tolerance):
     return sorted(out, key=lambda t: t.low)
 
 
-def _intervals(openings, counts):
-    """Runs of equal count: (first Ψ, last Ψ, count, index of the middle sample)."""
-    runs, start = [], 0
-    for i in range(1, len(counts) + 1):
-        if i == len(counts) or counts[i] != counts[start]:
-            runs.append((openings[start], openings[i - 1], int(counts[start]), (start + i - 1) // 2))
-            start = i
-    return runs
-
-
-def format_result(result: TopologyResult, family=None) -> str:
-    """A plain-text report: Ψ intervals with counts and areas, then the transitions."""
-    axis = result.quantity.endswith("(axis)")
-    unit = "b^2" if result.quantity == "excluded" else "b^2 rad"
-    measured = "peak radius at middle sample (b)" if axis else f"areas at middle sample ({unit})"
-    lines = []
-    if family is not None:
-        lines.append(f"family: {family}")
-    lines.append(f"{result.quantity} components over the opening (first pass; degrees)")
-    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6} {'shortest' if axis else 'thinnest':>9}  {measured}")
-    thinnest = result.thinnest if result.thinnest is not None else np.full(len(result.openings), math.inf)
-    for a, b, count, mid in _intervals(result.openings, result.counts):
-        areas = ", ".join(f"{v:.4g}" for v in result.areas[mid]) or "-"
-        run = (result.openings >= a) & (result.openings <= b)
-        thin = float(thinnest[run].min())
-        thin = "-" if math.isinf(thin) else f"{thin:.1f}"
-        lines.append(
-            f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d} {thin:>9}  {areas}"
-            f"   (at {math.degrees(result.openings[mid]):.1f})"
-        )
-    if axis:
-        lines.append(
-            f"(shortest: fewest axis nodes in a counted component over the interval;"
-            f" below {RESOLVED_PEAK:g} the count is near the axis sampling's reach)"
-        )
-    else:
-        lines.append(
-            f"(thinnest: smallest inscribed radius of a counted component over the interval, in node spacings;"
-            f" below {RESOLVED_PEAK:g} the count is near the grid's reach)"
-        )
-    for res, transitions in result.transitions.items():
-        where = f"{res[0]} axis nodes, exact in phi" if axis else f"grid nx={res[0]} ny={res[1]} nphi={res[2]}"
-        lines.append(f"transitions on {where} (radians; degrees):")
-        if not transitions:
-            lines.append("  none")
-        for t in transitions:
-            lines.append(
-                f"  * {t.count_low} -> {t.count_high} at Psi in [{t.low:.4f}, {t.high:.4f}] rad"
-                f" = {t.opening:.4f} +- {0.5 * (t.high - t.low):.4f}"
-                f"  ({math.degrees(t.low):.2f} to {math.degrees(t.high):.2f} deg)"
-                + (
-                    ""
-                    if t.resolved
-                    else (
-                        f"  [sampling-limited: a component {t.thinnest:.1f} axis nodes short]"
-                        if axis
-                        else f"  [grid-limited: a component {t.thinnest:.1f} nodes thin; moves with resolution]"
-                    )
-                )
-            )
-    return "\n".join(lines)
-
-
 # --- the symmetry axis, exact in φ ------------------------------------------------------
 #
 # A SeSP pair is mirror-symmetric about the x axis, and so is every component of
@@ -642,9 +573,7 @@ def _axis_persistence(x, w, ratio, min_nodes):
 
 def _axis_nodes(particle, nodes, segments):
     """(axis nodes, their spacing), b: cell centres of [-r₁ - r₂, r₁ + r₂] and the centre x = 0."""
-    from .shape import as_polyline
-
-    reach = 2 * as_polyline(particle, segments).max_radius
+    reach = as_pair(particle, segments=segments).reach
     spacing = 2 * reach / nodes
     cells = (np.arange(nodes) - (nodes - 1) / 2) * spacing
     return np.union1d(cells, [0.0]), spacing  # the centre, where the excluded set can touch itself, on any parity
@@ -679,8 +608,6 @@ def axis_profile(particle, *, nodes: int = 512, segments: int = DEFAULT_SEGMENTS
 
 
 def _axis_widths(particle, x, segments, cap):
-    from .regions import allowed_orientations
-
     w = np.zeros(len(x))
     inside = np.flatnonzero(allowed_orientations(particle, x, 0.0, segments=segments) == 0)
     if len(inside):
@@ -701,8 +628,6 @@ def _short_runs(w, shorter_than):
 
 def _half_widths(particle, xs, segments, cap):
     """For excluded axis points: the extent in y, up to ``cap``, of the excluded run from the axis."""
-    from .regions import allowed_orientations
-
     steps = AXIS_WIDTH_FLOOR * _WIDTH_RATIO ** np.arange(
         1, 1 + math.ceil(math.log(cap / AXIS_WIDTH_FLOOR, _WIDTH_RATIO))
     )
@@ -752,15 +677,13 @@ def axis_transitions(
     nodes, segments
         As in :func:`axis_profile`.
     """
-    from tqdm.auto import tqdm
-
     openings = _openings(opening_range, step, tolerance)
     make = _family(family)
     cache = {}  # opening -> axis components
     state = _memoised(
         lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(), _axis_summary, cache
     )
-    states = [state(float(o)) for o in tqdm(openings, disable=not progress, desc="Ψ (axis)")]
+    states = [state(float(o)) for o in progress_iter(openings, progress, "Ψ (axis)")]
     areas = [np.array([c[2] for c in cache[float(o)]]) for o in openings]
     result = TopologyResult(
         "excluded (axis)", openings, np.array([s[0] for s in states]), areas, thinnest=np.array([s[1] for s in states])

@@ -1,12 +1,13 @@
 import math
 
-import naive
 import numpy as np
 import pytest
-from test_kernels import STAPLE, ZED
 
 from sesp import Grid, Polyline, SeSP, monte_carlo, scan
-from sesp.scan import field_sha256
+from sesp.dataset import field_sha256
+
+import naive
+from cases import STAPLE, ZED
 
 CASES = [
     (SeSP(n=2, opening=math.pi / 2), None, 24),
@@ -18,6 +19,7 @@ CASES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("nx", [24, 25])
 @pytest.mark.parametrize("case", range(len(CASES)))
 def test_raster_equals_direct_on_every_state(case, nx):
@@ -110,22 +112,6 @@ def test_monte_carlo_reproducible_and_consistent():
     assert float(a.excluded_area) == pytest.approx(a.overlap.values.mean() * side**2)
     with pytest.raises(ValueError, match="samples"):
         monte_carlo(p, samples=0)
-
-
-def test_parallel_and_serial_raster_kernels_agree():
-    from sesp import _kernels
-    from sesp.scan import prepare
-
-    setup = prepare(SeSP(n=8, opening=1.0), Grid(33, nphi=16), segments=40)
-    g = setup.grid
-    c, s = g.rotations()
-    args = (setup.curve1.vertices, setup.curve2.vertices, c, s, g.x, g.y, setup.delta, True)
-    parallel = np.zeros((16, 33, 33), dtype=np.uint16)
-    serial = np.zeros_like(parallel)
-    _kernels.raster_slices(*args, parallel)
-    _kernels.raster_slices_serial(*args, serial)
-    np.testing.assert_array_equal(parallel, serial)
-    assert parallel.any()
 
 
 @pytest.mark.parametrize("particle", [SeSP(n=2, opening=math.pi / 2), SeSP(n=8, aspect=1.4, opening=2.0), STAPLE])

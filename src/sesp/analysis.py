@@ -1,0 +1,139 @@
+"""One analysis of a pair on a grid: the function the sweep runner, the CLI and notebooks call.
+
+:func:`analyze` runs one pass over the field (:func:`sesp.field.reduce`) with
+the reductions that what is kept needs, and returns one labelled Dataset:
+A_ex(φ) and its normalised and averaged forms, and, as asked, position
+classes, excluded components and the field itself.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from .field import reduce, resolve_grid
+from .grid import Grid
+from .measures import closed_pair_excluded_area
+from .pair import as_pair
+from .reductions import ExcludedAreaByPhi, StoredField
+from .regions import PositionSummary
+from .shape import DEFAULT_SEGMENTS
+from .topology import excluded_components
+
+__all__ = ["analyze", "KEEP", "COMPONENTS_KEPT"]
+
+KEEP = ("excluded_area", "classes", "topology", "allowed", "crossings", "entangled")
+FIELD_KEEP = ("allowed", "crossings", "entangled")
+COMPONENTS_KEPT = 4  # areas of the largest excluded components stored
+PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "classes")
+
+
+def check_keep(keep) -> tuple:
+    """``keep`` as a tuple of known outputs, in the order given."""
+    keep = (keep,) if isinstance(keep, str) else tuple(keep)
+    unknown = [k for k in keep if k not in KEEP]
+    if unknown or not keep:
+        raise ValueError(f"keep must list some of {KEEP}, got {list(keep)}")
+    if any(k in keep for k in ("crossings", "entangled")) and "allowed" not in keep:
+        raise ValueError(f"keep: 'crossings' and 'entangled' are stored beside 'allowed', got {list(keep)}")
+    return keep
+
+
+def analyze(
+    particle,
+    grid: Grid | None = None,
+    *,
+    other=None,
+    segments: int = DEFAULT_SEGMENTS,
+    keep=("excluded_area",),
+    engine: str = "raster",
+    memory_limit: int | None = None,
+    progress: bool = False,
+) -> xr.Dataset:
+    """Excluded area, classes, components and the field of one pair, from one pass.
+
+    Parameters
+    ----------
+    particle, grid, other, segments
+        As in :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`).
+    keep : sequence of str
+        What to return, any of:
+
+        * ``"excluded_area"``: always returned: ``excluded_area(phi)`` (b²),
+          ``normalized_excluded_area(phi)``, their orientation means
+          ``mean_excluded_area``, ``mean_normalized_excluded_area``, and
+          ``closed_excluded_area`` (b², the reference of the normalisation;
+          NaN for polylines, which have no closed shape);
+        * ``"classes"``: ``classes``, ``allowed_fraction``, ``mean_orientation``
+          and ``orientation_order`` over (y, x) (runs the entanglement test);
+        * ``"topology"``: ``excluded_components`` (robust count) and
+          ``component_area(component)`` (b², largest first, NaN-padded to
+          ``COMPONENTS_KEPT``);
+        * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
+          (phi, y, x), as :func:`sesp.scan` stores them.
+    engine : {"raster", "direct"}
+        As in :func:`sesp.scan`.
+    memory_limit : int, optional
+        Bytes the stored fields may take (see :func:`sesp.scan`).
+    progress : bool
+        Show a progress bar over orientations.
+
+    Returns
+    -------
+    xarray.Dataset
+        Format ``sesp.scan`` when a field is kept, else ``sesp.summary``.
+
+    Examples
+    --------
+    >>> ds = analyze(SeSP(n=2, opening=1.0), Grid(32, nphi=16), segments=32, keep=["classes", "topology"])
+    >>> int(ds.excluded_components)
+    2
+    """
+    keep = check_keep(keep)
+    pair = as_pair(particle, other, segments)
+    grid = resolve_grid(pair, grid)
+    fields = tuple(k for k in FIELD_KEEP if k in keep)
+    reductions = []
+    if fields:
+        grid.check_memory(fields, memory_limit)
+        reductions.append(StoredField(fields))
+    per_position = "classes" in keep or "topology" in keep
+    reductions.append(PositionSummary(entangled="classes" in keep) if per_position else ExcludedAreaByPhi())
+    kind = "sesp.scan" if fields else "sesp.summary"
+    ds = reduce(pair, grid, reductions, engine=engine, kind=kind, progress=progress)
+    _add_normalized(ds, pair, grid)
+    if "topology" in keep:
+        _add_components(ds)
+    if "classes" not in keep:
+        ds = ds.drop_vars([v for v in PER_POSITION if v in ds])
+    return ds
+
+
+def _add_normalized(ds, pair, grid):
+    """The normalised and orientation-averaged excluded areas, in place."""
+    try:
+        reference = closed_pair_excluded_area(pair, grid)
+    except ValueError:  # polylines have no closed shape
+        reference = np.nan
+    area = ds.excluded_area
+    ds["normalized_excluded_area"] = (area / reference).assign_attrs(
+        units="1", long_name="A_ex(φ) / A_ex of the closed shape"
+    )
+    ds["mean_excluded_area"] = area.mean("phi").assign_attrs(units="b^2", long_name="orientation-averaged A_ex")
+    ds["mean_normalized_excluded_area"] = (area.mean("phi") / reference).assign_attrs(
+        units="1", long_name="orientation-averaged A_ex / A_ex of the closed shape"
+    )
+    ds["closed_excluded_area"] = xr.DataArray(
+        reference, attrs={"units": "b^2", "long_name": "orientation-averaged A_ex of the closed shape"}
+    )
+
+
+def _add_components(ds):
+    """The robust count of excluded components and their areas, in place."""
+    comps = excluded_components(ds)
+    areas = np.full(COMPONENTS_KEPT, np.nan)
+    areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
+    ds["excluded_components"] = xr.DataArray(comps.count, attrs={"long_name": "robust count of excluded components"})
+    ds["component_area"] = xr.DataArray(
+        areas, dims="component", attrs={"units": "b^2", "long_name": "areas of the excluded components, largest first"}
+    )

@@ -1,0 +1,219 @@
+"""The dataset contract: what every kind of sesp file holds, in one place.
+
+Every module that writes or reads a sesp Dataset (scan, measures, regions,
+analysis, io, sweep, plot, cli) goes through these names and functions
+instead of reading ``ds.attrs`` its own way.
+
+Kinds of dataset (attribute ``sesp_format``):
+
+=====================  ======================================================
+``sesp.scan``          the field ``allowed(phi, y, x)`` (optionally
+                       ``crossings``, ``entangled``) and any reductions of it
+``sesp.summary``       ``excluded_area(phi)`` and, as kept, per-position
+                       reductions over φ (``allowed_fraction``, ``classes``, ...)
+``sesp.point``         one parameter point of a sweep (a summary or scan
+                       plus the point's record)
+``sesp.sweep``         collected sweep: swept parameters as dimensions
+``sesp.monte_carlo``   random placements and their A_ex estimate
+=====================  ======================================================
+
+Scans, summaries and points carry the attributes of the pair
+(:func:`pair_attrs`) and of the grid (:func:`grid_attrs`), so
+:func:`pair_of` and :func:`grid_of` rebuild both.
+"""
+
+from __future__ import annotations
+
+import hashlib
+
+import numpy as np
+import xarray as xr
+
+from . import version
+from .grid import Grid
+from .pair import Pair
+from .shape import Polyline, SeSP
+
+__all__ = [
+    "FORMATS",
+    "FORMAT_VERSION",
+    "SespFileError",
+    "format_of",
+    "base_attrs",
+    "particle_attrs",
+    "particle_from_attrs",
+    "pair_attrs",
+    "pair_of",
+    "grid_attrs",
+    "grid_of",
+    "cell_area",
+    "coords",
+    "LONG_NAMES",
+    "field_sha256",
+    "validate",
+]
+
+FORMAT_VERSION = 1
+SHAPE_KEYS = ("n", "m", "aspect", "opening")
+FIELD_DIMS = ("phi", "y", "x")
+PLANE_DIMS = ("y", "x")
+
+# Variables each kind of sesp dataset must hold: name -> (dims, dtype kind).
+REQUIRED = {
+    "sesp.scan": {"allowed": (FIELD_DIMS, "b")},
+    "sesp.summary": {"excluded_area": (("phi",), "f")},
+    "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
+    "sesp.point": {"excluded_area": (("phi",), "f")},
+    "sesp.sweep": {},
+}
+FORMATS = tuple(REQUIRED)
+OPTIONAL = {
+    "crossings": (FIELD_DIMS, "u"),
+    "entangled": (FIELD_DIMS, "b"),
+    "allowed_fraction": (PLANE_DIMS, "f"),
+    "classes": (PLANE_DIMS, "i"),
+}
+
+LONG_NAMES = {
+    "allowed": "state allowed (curves do not meet)",
+    "crossings": "segment pairs that meet (n)",
+    "entangled": "allowed and mutually entangled (each curve meets the other's convex hull)",
+}
+
+
+class SespFileError(ValueError):
+    """A file that is not a readable sesp dataset, or whose contents do not check out."""
+
+
+def format_of(ds) -> str | None:
+    """The ``sesp_format`` of a dataset, or None."""
+    return ds.attrs.get("sesp_format")
+
+
+def base_attrs(kind: str) -> dict:
+    """Format, format version and sesp version: the first attributes of every sesp dataset."""
+    if kind not in FORMATS:
+        raise ValueError(f"kind must be one of {FORMATS}, got {kind!r}")
+    return {"sesp_format": kind, "sesp_format_version": FORMAT_VERSION, "sesp_version": version.__version__}
+
+
+# --- particles and pairs ---------------------------------------------------------------
+
+
+def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
+    """Attributes that describe ``particle`` and its polyline, keys prefixed."""
+    attrs = {f"{prefix}_kind": type(particle).__name__}
+    if isinstance(particle, SeSP):
+        attrs.update({f"{prefix}_{k}": getattr(particle, k) for k in SHAPE_KEYS})
+    attrs[f"{prefix}_segments"] = curve.segments
+    attrs[f"{prefix}_length"] = curve.length
+    attrs[f"{prefix}_max_radius"] = curve.max_radius
+    attrs[f"{prefix}_vertices"] = curve.vertices.ravel().copy()
+    return attrs
+
+
+def particle_from_attrs(attrs, prefix: str = "particle"):
+    """The SeSP or Polyline described by :func:`particle_attrs`."""
+    kind = attrs.get(f"{prefix}_kind")
+    if kind == "SeSP":
+        return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in SHAPE_KEYS})
+    if kind == "Polyline":
+        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))
+    raise SespFileError(f"attribute {prefix}_kind must be 'SeSP' or 'Polyline', got {kind!r}")
+
+
+def pair_attrs(pair: Pair) -> dict:
+    """Attributes that reproduce ``pair``: both particles, their polylines, the tolerance."""
+    attrs = {}
+    attrs.update(particle_attrs(pair.particle, pair.curve1, "particle"))
+    attrs.update(particle_attrs(pair.other, pair.curve2, "other"))
+    attrs["identical_particles"] = int(pair.identical)
+    attrs["touch_tolerance"] = pair.tolerance
+    return attrs
+
+
+def pair_of(ds) -> Pair:
+    """The pair a scan, summary or point was computed for, rebuilt from its attributes."""
+    attrs = ds.attrs
+    if "particle_kind" not in attrs:
+        raise SespFileError(f"a {format_of(ds)} dataset does not describe one pair of particles")
+    segments = int(attrs["particle_segments"])
+    first, second = particle_from_attrs(attrs, "particle"), particle_from_attrs(attrs, "other")
+    return Pair.of(first, None if attrs.get("identical_particles") and first == second else second, segments=segments)
+
+
+# --- grids -----------------------------------------------------------------------------
+
+
+def grid_attrs(grid: Grid) -> dict:
+    """Grid description for dataset attributes (the box must be set)."""
+    return {"nx": grid.nx, "ny": grid.ny, "nphi": grid.nphi, "half_width": grid.half_width}
+
+
+def grid_of(ds) -> Grid:
+    """The grid of a scan or summary: from its attributes, else from its coordinates."""
+    attrs = ds.attrs
+    if all(k in attrs for k in ("nx", "ny", "nphi", "half_width")):
+        return Grid(int(attrs["nx"]), int(attrs["ny"]), int(attrs["nphi"]), half_width=float(attrs["half_width"]))
+    x, y = ds["x"].values, ds["y"].values
+    return Grid(len(x), len(y), ds.sizes.get("phi", 1), half_width=float(len(x) * (x[1] - x[0]) / 2))
+
+
+def cell_area(ds) -> float:
+    """Area (b²) of one (x, y) cell of a dataset's lattice."""
+    return float(ds.x[1] - ds.x[0]) * float(ds.y[1] - ds.y[0])
+
+
+def coords(grid: Grid, dims=FIELD_DIMS) -> dict:
+    """Labelled coordinates of ``grid`` along ``dims``."""
+    every = {
+        "phi": ("phi", grid.phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
+        "y": ("y", grid.y, {"units": "b", "long_name": "y of particle 2's centre"}),
+        "x": ("x", grid.x, {"units": "b", "long_name": "x of particle 2's centre"}),
+    }
+    return {d: every[d] for d in dims}
+
+
+def field_sha256(allowed) -> str:
+    """SHA-256 of a boolean field's C-ordered bytes (one byte per state)."""
+    data = np.ascontiguousarray(np.asarray(allowed, dtype=bool))
+    return hashlib.sha256(data.view(np.uint8)).hexdigest()
+
+
+# --- validation of what is read ----------------------------------------------------------
+
+
+def _check_variable(where, ds, name, dims, kind):
+    var = ds[name]
+    if format_of(ds) == "sesp.sweep":  # swept parameters come first
+        dims = var.dims[: var.ndim - len(dims)] + dims
+    if var.dims != dims:
+        raise SespFileError(f"{where}: variable {name!r} has dims {var.dims}, expected {dims}")
+    if var.dtype.kind != kind:
+        raise SespFileError(f"{where}: variable {name!r} has dtype {var.dtype}, expected kind {kind!r}")
+
+
+def _check_field(where, ds: xr.Dataset):
+    for dim, key in (("x", "nx"), ("y", "ny"), ("phi", "nphi")):
+        if key not in ds.attrs or ds.sizes.get(dim) != int(ds.attrs[key]):
+            raise SespFileError(f"{where}: size of {dim} does not match attribute {key}")
+    expected = ds.attrs.get("allowed_sha256")
+    if expected is not None and field_sha256(ds.allowed.values) != expected:
+        raise SespFileError(f"{where}: allowed field does not match its recorded SHA-256 (file corrupted?)")
+
+
+def validate(ds: xr.Dataset, where="<dataset>") -> xr.Dataset:
+    """Check that ``ds`` is a well-formed sesp dataset; raise SespFileError if not."""
+    kind = format_of(ds)
+    if kind not in REQUIRED:
+        raise SespFileError(f"{where}: not a sesp dataset (attribute sesp_format is {kind!r})")
+    for name, (dims, dtype_kind) in REQUIRED[kind].items():
+        if name not in ds:
+            raise SespFileError(f"{where}: missing variable {name!r} required in a {kind} file")
+        _check_variable(where, ds, name, dims, dtype_kind)
+    for name, (dims, dtype_kind) in OPTIONAL.items():
+        if name in ds:
+            _check_variable(where, ds, name, dims, dtype_kind)
+    if "allowed" in ds and ds.allowed.dims == FIELD_DIMS and kind in ("sesp.scan", "sesp.point"):
+        _check_field(where, ds)
+    return ds

@@ -1,0 +1,38 @@
+"""What every kernel family shares: the jit options and small geometric helpers."""
+
+import math
+
+from numba import njit
+
+# One set of options for every kernel: compiled once and cached on disk; no fastmath.
+JIT = dict(cache=True, nogil=True)
+
+
+@njit(**JIT)
+def rotate(vertices, c, s, out):
+    """out = R vertices, R the rotation with cosine c and sine s."""
+    for k in range(vertices.shape[0]):
+        x = vertices[k, 0]
+        y = vertices[k, 1]
+        out[k, 0] = c * x - s * y
+        out[k, 1] = s * x + c * y
+
+
+@njit(**JIT)
+def segment_lengths(vertices, out):
+    for k in range(vertices.shape[0] - 1):
+        dx = vertices[k + 1, 0] - vertices[k, 0]
+        dy = vertices[k + 1, 1] - vertices[k, 1]
+        out[k] = math.sqrt(dx * dx + dy * dy)
+
+
+@njit(**JIT)
+def index_range(lo, hi, origin, inv_step, size):
+    """Indices i with origin + i·step in [lo, hi], clipped to the grid.
+
+    Filters widen [lo, hi] by MARGIN_FACTOR·delta, far more than the rounding
+    of this index arithmetic, so no node the predicate accepts is missed.
+    """
+    i0 = int(math.ceil((lo - origin) * inv_step))
+    i1 = int(math.floor((hi - origin) * inv_step))
+    return max(i0, 0), min(i1, size - 1)

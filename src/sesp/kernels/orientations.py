@@ -1,0 +1,176 @@
+"""Orientation kernels: the φ intervals in which two curves meet at a fixed translation, exact in φ."""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .common import JIT
+
+TWO_PI = 2.0 * math.pi
+
+
+@njit(**JIT)
+def _sinusoid_roots(c, a, b, roots, n):
+    """Append to ``roots`` the φ in [0, 2π) where c + a cos φ + b sin φ = 0; return the new count."""
+    r = math.hypot(a, b)
+    if r == 0.0 or abs(c) > r:
+        return n
+    centre = math.atan2(b, a)
+    half = math.acos(min(1.0, max(-1.0, -c / r)))
+    for phi in (centre - half, centre + half):
+        roots[n] = phi % TWO_PI
+        n += 1
+    return n
+
+
+@njit(**JIT)
+def _pair_signs(phi, k1, k2, k3, k4):
+    """Whether the segments meet at φ: both pairs of orientation values change sign (or vanish)."""
+    c = math.cos(phi)
+    s = math.sin(phi)
+    s1 = k1[0] + k1[1] * c + k1[2] * s
+    s2 = k2[0] + k2[1] * c + k2[2] * s
+    s3 = k3[0] + k3[1] * c + k3[2] * s
+    s4 = k4[0] + k4[1] * c + k4[2] * s
+    return s1 * s2 <= 0.0 and s3 * s4 <= 0.0
+
+
+@njit(**JIT)
+def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
+    """Append the φ intervals where fixed segment pq meets t + R_φ[uv]; return the new count.
+
+    Segments meet exactly when each one's end points lie on opposite sides of
+    (or on) the other's line. Every such orientation value is a sinusoid
+    c + α cos φ + β sin φ in φ, so between consecutive roots of the four the
+    answer is constant: one midpoint test per piece.
+    """
+    dx = qx - px
+    dy = qy - py
+    ex = vx - ux
+    ey = vy - uy
+    base = dx * (ty - py) - dy * (tx - px)
+    k1 = (base, dx * uy - dy * ux, dx * ux + dy * uy)
+    k2 = (base, dx * vy - dy * vx, dx * vx + dy * vy)
+    offset = -(ex * uy - ey * ux)
+    gx, gy = px - tx, py - ty
+    k3 = (offset, -(gx * ey - gy * ex), -(gx * ex + gy * ey))
+    gx, gy = qx - tx, qy - ty
+    k4 = (offset, -(gx * ey - gy * ex), -(gx * ex + gy * ey))
+    roots = np.empty(10)
+    m = 0
+    for k in (k1, k2, k3, k4):
+        m = _sinusoid_roots(k[0], k[1], k[2], roots, m)
+    roots[m] = 0.0
+    roots[m + 1] = TWO_PI
+    cuts = np.sort(roots[: m + 2])
+    for i in range(m + 1):
+        lo = cuts[i]
+        hi = cuts[i + 1]
+        if hi > lo and _pair_signs(0.5 * (lo + hi), k1, k2, k3, k4):
+            if n > 0 and ends[n - 1] == lo:  # continues the piece before
+                ends[n - 1] = hi
+            else:
+                starts[n] = lo
+                ends[n] = hi
+                n += 1
+    return n
+
+
+@njit(**JIT)
+def _segment_distances(vx0, vy0, vx1, vy1, x, y):
+    """(nearest, farthest) distance from (x, y) to the segment."""
+    ex = vx1 - vx0
+    ey = vy1 - vy0
+    length2 = ex * ex + ey * ey
+    lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - vx0) * ex + (y - vy0) * ey) / length2))
+    near = math.hypot(vx0 + lam * ex - x, vy0 + lam * ey - y)
+    far = max(math.hypot(vx0 - x, vy0 - y), math.hypot(vx1 - x, vy1 - y))
+    return near, far
+
+
+@njit(**JIT)
+def blocked_angles(v1, v2, tx, ty, slack):
+    """Sorted (starts, ends) of the φ intervals in [0, 2π) where curve 2 at t meets curve 1.
+
+    Pairs are screened first: rotated about its centre, segment j of curve 2
+    stays in the annulus of radii [nearest, farthest distance of the segment
+    from the centre] about t, so it can meet segment i only if segment i
+    reaches that annulus (widened by ``slack``).
+    """
+    n1 = v1.shape[0] - 1
+    n2 = v2.shape[0] - 1
+    near1 = np.empty(n1)
+    far1 = np.empty(n1)
+    for i in range(n1):
+        near1[i], far1[i] = _segment_distances(v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1], tx, ty)
+    cap = 64
+    starts = np.empty(cap)
+    ends = np.empty(cap)
+    n = 0
+    for j in range(n2):
+        rin, rout = _segment_distances(v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1], 0.0, 0.0)
+        for i in range(n1):
+            if near1[i] > rout + slack or far1[i] < rin - slack:
+                continue
+            if n + 5 > cap:  # one pair adds at most 5 intervals (9 pieces, adjacent ones merged)
+                cap *= 2
+                grown_s = np.empty(cap)
+                grown_e = np.empty(cap)
+                grown_s[:n] = starts[:n]
+                grown_e[:n] = ends[:n]
+                starts, ends = grown_s, grown_e
+            n = _pair_angles(
+                v1[i, 0],
+                v1[i, 1],
+                v1[i + 1, 0],
+                v1[i + 1, 1],
+                v2[j, 0],
+                v2[j, 1],
+                v2[j + 1, 0],
+                v2[j + 1, 1],
+                tx,
+                ty,
+                starts,
+                ends,
+                n,
+            )
+    order = np.argsort(starts[:n], kind="mergesort")
+    return starts[:n][order], ends[:n][order]
+
+
+@njit(**JIT)
+def free_measure(starts, ends, gap):
+    """Measure of [0, 2π) outside the union of sorted intervals; gaps narrower than ``gap`` count as closed."""
+    free = 0.0
+    reach = 0.0
+    for k in range(starts.shape[0]):
+        if starts[k] - reach > gap:
+            free += starts[k] - reach
+        reach = max(reach, ends[k])
+    if TWO_PI - reach > gap:
+        free += TWO_PI - reach
+    return free
+
+
+@njit(**JIT, parallel=True)
+def allowed_angle_at(v1, v2, xs, ys, slack, gap, out):
+    """``out[p]`` = measure (radians) of the orientations allowed at translation (xs[p], ys[p]).
+
+    Each point is written by one thread, so results do not depend on the thread count.
+    """
+    for p in prange(xs.shape[0]):
+        starts, ends = blocked_angles(v1, v2, xs[p], ys[p], slack)
+        out[p] = free_measure(starts, ends, gap)
+
+
+def blocked_intervals(v1, v2, tx, ty, slack):
+    """Sorted (starts, ends) of the φ intervals where curve 2 at (tx, ty) meets curve 1, radians."""
+    return blocked_angles(v1, v2, float(tx), float(ty), slack)
+
+
+def allowed_measures(v1, v2, xs, ys, slack, gap):
+    """(p,) measure in radians of the orientations allowed at each translation (xs[p], ys[p])."""
+    out = np.empty(len(xs))
+    allowed_angle_at(v1, v2, xs, ys, slack, gap, out)
+    return out

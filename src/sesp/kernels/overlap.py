@@ -1,0 +1,276 @@
+"""Overlap kernels: segment-pair tests, the Minkowski raster and the direct engine.
+
+Conventions shared by every kernel:
+
+* Curve 1 is fixed; curve 2 is rotated by φ about its centre, then translated
+  by t = (x, y). ``b2`` is curve 2's vertices already rotated.
+* Segment i of curve 1 runs from a_i by d_i; rotated segment j of curve 2 runs
+  from b_j by e_j. They meet at translation t exactly when t lies in the
+  parallelogram P_ij = {c + λ d_i + μ f_j : λ, μ ∈ [0, 1]}, with c = a_i − b_j
+  and f_j = −e_j (docs/design.md, Engines). Both engines evaluate that one predicate,
+  :func:`in_pair_set`, on the same floating-point inputs, so they agree state
+  for state, including at ties and on degenerate (parallel) pairs.
+* Touching counts as meeting: the predicate accepts points within ``delta``
+  of P_ij (closed sets, one tolerance for every engine).
+* Parallel kernels run ``prange`` over φ (or over samples); each slice is
+  written by one thread, so results do not depend on the thread count.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .common import JIT, index_range, rotate, segment_lengths
+
+COUNT_MAX = 65535  # crossing counts saturate at the uint16 maximum
+
+# The accepted region lies within delta·√2 of P_ij's bounding box; filters
+# use a wider margin so they never reject a state the predicate accepts.
+MARGIN_FACTOR = 3.0
+
+
+@njit(**JIT)
+def pair_geometry(v1, b2, i, j):
+    """(c, d, f) of the parallelogram P_ij, as six scalars."""
+    ax = v1[i, 0]
+    ay = v1[i, 1]
+    dx = v1[i + 1, 0] - ax
+    dy = v1[i + 1, 1] - ay
+    cx = ax - b2[j, 0]
+    cy = ay - b2[j, 1]
+    fx = b2[j, 0] - b2[j + 1, 0]
+    fy = b2[j, 1] - b2[j + 1, 1]
+    return cx, cy, dx, dy, fx, fy
+
+
+@njit(**JIT)
+def pair_setup(dx, dy, fx, fy, dlen, flen, delta):
+    """Per-pair constants of the membership test :func:`pair_contains`.
+
+    With D = d × f and w = λ d + μ f: λ D = w × f and μ D = d × w. The sign
+    makes D >= 0; the tolerances turn "within delta of an edge" into bounds
+    on those cross products; (lo, hi) bound the projection of w on d.
+    """
+    big_d = dx * fy - dy * fx
+    sign = 1.0 if big_d >= 0.0 else -1.0
+    inv_dlen = 1.0 / dlen
+    q = (fx * dx + fy * dy) * inv_dlen
+    lo = min(q, 0.0) - delta
+    hi = dlen + max(q, 0.0) + delta
+    return sign * big_d, sign, delta * flen, delta * dlen, inv_dlen, lo, hi
+
+
+@njit(**JIT)
+def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
+    """True when w = t − c lies within delta of {λ d + μ f : λ, μ ∈ [0, 1]}.
+
+    The two strip tests bound the distance to each pair of opposite edges;
+    the projection test on d bounds the extent along d, which keeps a
+    (near-)degenerate parallelogram, i.e. two (nearly) parallel segments,
+    from growing long tolerance tails: when d ∥ f the set is a segment and
+    the tests reduce to "within delta of it".
+    """
+    u = sign * (wx * fy - wy * fx)
+    if u < -tol_f or u > big_d + tol_f:
+        return False
+    v = sign * (dx * wy - dy * wx)
+    if v < -tol_d or v > big_d + tol_d:
+        return False
+    p = (wx * dx + wy * dy) * inv_dlen
+    return p >= lo and p <= hi
+
+
+@njit(**JIT)
+def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta):
+    """:func:`pair_contains` with its set-up: one pair, one point."""
+    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta)
+    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi)
+
+
+@njit(**JIT)
+def pair_bounds(cx, cy, dx, dy, fx, fy, margin):
+    """Axis-aligned bounding box of P_ij, widened by ``margin``."""
+    xmin = cx + min(0.0, dx) + min(0.0, fx) - margin
+    xmax = cx + max(0.0, dx) + max(0.0, fx) + margin
+    ymin = cy + min(0.0, dy) + min(0.0, fy) - margin
+    ymax = cy + max(0.0, dy) + max(0.0, fy) + margin
+    return xmin, xmax, ymin, ymax
+
+
+@njit(**JIT)
+def crossings_at(v1, dlen, b2, flen, tx, ty, delta, count):
+    """Number of segment pairs that meet at translation (tx, ty).
+
+    The direct test: every pair, with bounding-box rejection. When ``count``
+    is False it stops at the first pair found (the result is then 0 or 1).
+    """
+    margin = MARGIN_FACTOR * delta
+    found = 0
+    for j in range(b2.shape[0] - 1):
+        for i in range(v1.shape[0] - 1):
+            cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
+            xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
+            if tx < xmin or tx > xmax or ty < ymin or ty > ymax:
+                continue
+            if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen[i], flen[j], delta):
+                found += 1
+                if not count:
+                    return found
+    return found
+
+
+@njit(**JIT, parallel=True)
+def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out):
+    """Direct engine: ``out[k, iy, ix]`` = crossings at (xs[ix], ys[iy], φ_k).
+
+    ``reach`` = r₁ + r₂: states further apart cannot meet and are skipped.
+    """
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    far = (reach + MARGIN_FACTOR * delta) ** 2
+    for k in prange(cos_phi.shape[0]):
+        b2 = np.empty_like(v2)
+        rotate(v2, cos_phi[k], sin_phi[k], b2)
+        flen = np.empty(b2.shape[0] - 1)
+        segment_lengths(b2, flen)
+        for iy in range(ys.shape[0]):
+            for ix in range(xs.shape[0]):
+                if xs[ix] * xs[ix] + ys[iy] * ys[iy] > far:
+                    out[k, iy, ix] = 0
+                    continue
+                n = crossings_at(v1, dlen, b2, flen, xs[ix], ys[iy], delta, count)
+                out[k, iy, ix] = min(n, COUNT_MAX)
+
+
+@njit(**JIT)
+def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
+    """Minkowski raster of one orientation: add P_ij's nodes to ``out`` (ny, nx).
+
+    ``out`` must be zero on entry. When ``count`` is False a node already
+    marked is not tested again (only overlap, not the count, is wanted).
+    """
+    margin = MARGIN_FACTOR * delta
+    inv_hx = 1.0 / (xs[1] - xs[0])
+    inv_hy = 1.0 / (ys[1] - ys[0])
+    for j in range(b2.shape[0] - 1):
+        for i in range(v1.shape[0] - 1):
+            cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
+            xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
+            iy0, iy1 = index_range(ymin, ymax, ys[0], inv_hy, ys.shape[0])
+            if iy0 > iy1:
+                continue
+            ix0, ix1 = index_range(xmin, xmax, xs[0], inv_hx, xs.shape[0])
+            if ix0 > ix1:
+                continue
+            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta)
+            for iy in range(iy0, iy1 + 1):
+                ty = ys[iy]
+                if ty < ymin or ty > ymax:
+                    continue
+                for ix in range(ix0, ix1 + 1):
+                    tx = xs[ix]
+                    if tx < xmin or tx > xmax:
+                        continue
+                    if not count and out[iy, ix] != 0:
+                        continue
+                    if pair_contains(tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
+                        if out[iy, ix] < COUNT_MAX:
+                            out[iy, ix] += 1
+
+
+@njit(**JIT)
+def raster_phi(v1, dlen, v2, c, s, xs, ys, delta, count, out):
+    """Raster engine for one orientation (cosine c, sine s) into ``out`` (ny, nx), zeroed."""
+    b2 = np.empty_like(v2)
+    rotate(v2, c, s, b2)
+    flen = np.empty(b2.shape[0] - 1)
+    segment_lengths(b2, flen)
+    raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out)
+
+
+@njit(**JIT, parallel=True)
+def raster_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
+    """Raster engine: ``out[k]`` = crossings at φ_k over the grid (out zeroed), one thread per φ."""
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for k in prange(cos_phi.shape[0]):
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
+
+
+@njit(**JIT)
+def raster_slices_serial(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
+    """:func:`raster_slices` in one thread: for small grids, where loading the
+    parallel kernel costs more than it saves. Same slices, same results."""
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for k in range(cos_phi.shape[0]):
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
+
+
+@njit(**JIT, parallel=True)
+def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out):
+    """``out[k]`` = overlapping nodes at φ_k on the lattice moved by ``shifts[k]``.
+
+    Counts only: each thread rasterises one slice into its own scratch array.
+    """
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for k in prange(cos_phi.shape[0]):
+        field = np.zeros((ys.shape[0], xs.shape[0]), dtype=np.uint16)
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs + shifts[k, 0], ys + shifts[k, 1], delta, False, field)
+        out[k] = np.count_nonzero(field)
+
+
+@njit(**JIT, parallel=True)
+def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
+    """Direct test at arbitrary states (xs[s], ys[s], phis[s]): the Monte-Carlo path."""
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    for s in prange(xs.shape[0]):
+        b2 = np.empty_like(v2)
+        rotate(v2, math.cos(phis[s]), math.sin(phis[s]), b2)
+        flen = np.empty(b2.shape[0] - 1)
+        segment_lengths(b2, flen)
+        out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, count), COUNT_MAX)
+
+
+# --- the wrappers: arrays in, arrays out -------------------------------------------------
+
+ENGINES = ("raster", "direct")
+
+# Fields with fewer states than this run the serial raster kernel (no parallel start-up cost).
+SERIAL_STATES = 1 << 20
+
+
+def crossing_field(v1, v2, cos_phi, sin_phi, xs, ys, delta, *, engine="raster", count=False, reach=0.0):
+    """(k, ny, nx) uint16: segment pairs that meet at (xs[ix], ys[iy], φ_k).
+
+    With ``count`` False only overlap is wanted and a node stops at its first
+    pair (the value is then 0 or a lower bound). ``reach`` (r₁ + r₂) lets the
+    direct engine skip states that cannot meet. Both engines evaluate the same
+    predicate and give identical fields.
+    """
+    out = np.zeros((len(cos_phi), len(ys), len(xs)), dtype=np.uint16)
+    if engine == "raster":
+        kernel = raster_slices_serial if out.size < SERIAL_STATES else raster_slices
+        kernel(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out)
+    elif engine == "direct":
+        direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out)
+    else:
+        raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
+    return out
+
+
+def lattice_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta):
+    """(k,) int64: overlapping nodes at φ_k on the lattice (xs, ys) moved by ``shifts[k]``."""
+    out = np.zeros(len(cos_phi), dtype=np.int64)
+    shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out)
+    return out
+
+
+def state_crossings(v1, v2, xs, ys, phis, delta, count=False):
+    """(s,) uint16: segment pairs that meet at each arbitrary state (xs[s], ys[s], phis[s])."""
+    out = np.empty(len(xs), dtype=np.uint16)
+    crossings_at_states(v1, v2, xs, ys, phis, delta, count, out)
+    return out

@@ -1,0 +1,34 @@
+"""Progress bars that cost nothing when off (tqdm is imported only when a bar is shown)."""
+
+from __future__ import annotations
+
+__all__ = ["progress_bar", "progress_iter"]
+
+
+class _NoProgress:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def update(self, n=1):
+        pass
+
+
+def progress_bar(total: int, enabled: bool, desc: str, unit: str = "it", initial: int = 0, leave: bool = False):
+    """A tqdm bar when ``enabled``, else a silent stand-in with the same interface."""
+    if not enabled:
+        return _NoProgress()
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, unit=unit, desc=desc, leave=leave, initial=initial)
+
+
+def progress_iter(iterable, enabled: bool, desc: str, unit: str = "it"):
+    """``iterable``, with a tqdm bar over it when ``enabled``."""
+    if not enabled:
+        return iterable
+    from tqdm.auto import tqdm
+
+    return tqdm(iterable, desc=desc, unit=unit, leave=False)

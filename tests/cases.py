@@ -1,0 +1,54 @@
+"""Shared test cases: particles, small sweep files and helpers that several test modules use."""
+
+import math
+from pathlib import Path
+
+from sesp import Polyline, SeSP
+
+ROOT = Path(__file__).resolve().parents[1]
+
+STAPLE = Polyline([[0.5, 1.0], [-0.5, 1.0], [-0.5, -1.0], [0.5, -1.0]])
+ZED = Polyline([[-0.6, 0.8], [0.4, 0.8], [-0.4, -0.8], [0.6, -0.8]])
+NEEDLE = Polyline([[-1.0, 0.0], [1.0, 0.0]])
+
+# Polylines of several kinds (SeSPs convex and not, closed, staples) for kernel comparisons.
+SHAPES = [
+    SeSP(n=2, opening=math.pi / 2).polyline(24),
+    SeSP(n=8, opening=1.0).polyline(31),
+    SeSP(n=0.6, aspect=1.7, opening=2.5).polyline(20),
+    SeSP(n=4).polyline(16),
+    STAPLE,
+    ZED,
+]
+
+# A sweep small enough for unit tests: 8 points of 24² × 16 states; {out} is the output folder.
+SMALL = """
+[sweep]
+name = "small"
+output = "{out}"
+angles = "degrees"
+
+[particle]
+n = [2, 8]
+opening = {{ start = 30, stop = 120, step = 30 }}
+segments = 24
+
+[grid]
+nx = 24
+nphi = 16
+
+[output]
+keep = ["excluded_area", "classes", "topology"]
+"""
+
+
+def write_sweep(folder: Path, text: str, name: str = "s.toml") -> Path:
+    """Write a sweep file into ``folder`` and return its path."""
+    path = folder / name
+    path.write_text(text)
+    return path
+
+
+def point_files(folder: Path) -> list:
+    """The point files of a sweep output folder (16-hex-digit names)."""
+    return sorted(p for p in folder.glob("*.nc") if len(p.stem) == 16)
