@@ -33,7 +33,7 @@ def test_scan_then_info(tmp_path, capsys):
     )
     ds = load(out)
     assert ds.attrs["particle_opening"] == pytest.approx(np.pi / 2)
-    assert ds.sizes == {"phi": 8, "y": 24, "x": 24}
+    assert dict(ds.allowed.sizes) == {"phi": 8, "y": 24, "x": 24}
     capsys.readouterr()
     assert main(["info", str(out)]) == 0
     text = capsys.readouterr().out

@@ -101,7 +101,18 @@ def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
         "fig1_shape_gallery.png",
         "fig4_asp_opening.png",
         "fig5_exponent_opening_orientation.png",
+        "onsager_exponent_opening.png",
         "topology_asp.png",
     ]
     for name in written:
         assert_not_blank(tmp_path / "figs" / name)
+
+
+def test_onsager_plot_draws_b2_and_the_leading_instability(sweep_ds, tmp_path):
+    fig = plot.onsager_plot(sweep_ds)
+    top, bottom = fig.axes
+    assert len(top.lines) == sweep_ds.sizes["n"]  # one B₂ curve per n
+    plotted = np.concatenate([line.get_ydata() for line in top.lines])
+    np.testing.assert_allclose(np.sort(plotted), np.sort(sweep_ds.second_virial_coefficient.values.ravel()))
+    assert bottom.get_yscale() == "log" and "rho" in bottom.get_ylabel()
+    assert_not_blank(_save(fig, tmp_path / "onsager.png"))

@@ -79,7 +79,9 @@ def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
     path = write_sweep(tmp_path, SMALL.format(out=tmp_path / "out"))
     target = run(path, workers=1, progress=False)
     ds = xr.open_dataset(target)
-    assert dict(ds.sizes) == {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "component": 4}
+    sizes = {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "component": 4, "k": 8, "order": 5}
+    assert dict(ds.sizes) == sizes  # k: spectrum orders 0..(nphi - 1) // 2; order: k = 1, 2, 3, 4, 6
+    np.testing.assert_array_equal(ds.k, np.arange(8))
     assert ds.excluded_area.dims == ("n", "opening", "phi")
     assert ds.opening.attrs["units"] == "rad"
     np.testing.assert_allclose(ds.opening_degrees, [30, 60, 90, 120])

@@ -9,7 +9,7 @@ The public API is this module's ``__all__``; ``docs/design.md`` maps the
 modules behind it.
 """
 
-from . import plot, topology, version
+from . import onsager, plot, topology, version
 from .analysis import analyze
 from .dataset import SespFileError, cell_area, grid_of, pair_of
 from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
@@ -94,6 +94,7 @@ __all__ = [
     "cell_area",
     "describe",
     # modules
+    "onsager",
     "plot",
     "topology",
 ]

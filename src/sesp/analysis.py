@@ -14,8 +14,9 @@ import xarray as xr
 from .field import reduce, resolve_grid
 from .grid import Grid
 from .measures import closed_pair_excluded_area
+from .onsager import onsager_variables
 from .pair import as_pair
-from .reductions import ExcludedAreaByPhi, StoredField
+from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
 from .topology import excluded_components
@@ -63,9 +64,14 @@ def analyze(
           ``normalized_excluded_area(phi)``, their orientation means
           ``mean_excluded_area``, ``mean_normalized_excluded_area``, and
           ``closed_excluded_area`` (b², the reference of the normalisation;
-          NaN for polylines, which have no closed shape);
+          NaN for polylines, which have no closed shape); and what
+          :func:`sesp.onsager.onsager_variables` derives from A_ex(φ): the
+          second virial coefficient, the orientational spectrum over ``k``
+          and the isotropic instabilities over ``order``, with error bars;
         * ``"classes"``: ``classes``, ``allowed_fraction``, ``mean_orientation``
-          and ``orientation_order`` over (y, x) (runs the entanglement test);
+          and ``orientation_order`` over (y, x), and the entangled area
+          ``entangled_area(phi)`` and ``mean_entangled_area`` (b²) (runs the
+          entanglement test);
         * ``"topology"``: ``excluded_components`` (robust count) and
           ``component_area(component)`` (b², largest first, NaN-padded to
           ``COMPONENTS_KEPT``);
@@ -99,9 +105,17 @@ def analyze(
         reductions.append(StoredField(fields))
     per_position = "classes" in keep or "topology" in keep
     reductions.append(PositionSummary(entangled="classes" in keep) if per_position else ExcludedAreaByPhi())
+    if "classes" in keep:
+        reductions.append(EntangledAreaByPhi())
     kind = "sesp.scan" if fields else "sesp.summary"
     ds = reduce(pair, grid, reductions, engine=engine, kind=kind, progress=progress)
     _add_normalized(ds, pair, grid)
+    for name, value in onsager_variables(ds.excluded_area).items():
+        ds[name] = value
+    if "entangled_area" in ds:
+        ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
+            units="b^2", long_name="orientation-averaged entangled area A_ent"
+        )
     if "topology" in keep:
         _add_components(ds)
     if "classes" not in keep:

@@ -193,7 +193,7 @@ def _cmd_collect(args) -> int:
     return 0
 
 
-PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology")
+PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology", "onsager")
 
 
 def _add_plot(sub):

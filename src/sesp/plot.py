@@ -16,6 +16,7 @@ import xarray as xr
 
 from .dataset import SespFileError, particle_from_attrs
 from .io import load
+from .onsager import ORDER_NAMES as ORDER_NAME
 from .regions import position_summary
 from .shape import SeSP, as_polyline
 
@@ -29,6 +30,7 @@ __all__ = [
     "map_grid",
     "render_figures",
     "figure",
+    "onsager_plot",
 ]
 
 PHI_CMAP = "twilight"
@@ -295,6 +297,49 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
     return fig
 
 
+ORDER_MARKERS = {1: "o", 2: "s", 3: "v", 4: "D", 6: "h"}
+
+
+def onsager_plot(ds: xr.Dataset, *, fig=None):
+    """B₂ and the leading isotropic instability ρ*_k⟨A_ex⟩ against Ψ, one line per n.
+
+    ``ds`` is a collected sweep over ``n`` and ``opening`` (every sweep stores
+    ``second_virial_coefficient`` and ``reduced_instability_density``; see
+    :mod:`sesp.onsager`). The lower panel draws, at each Ψ, the smallest
+    ρ*_k⟨A_ex⟩ over k, with a marker for the order k that goes unstable first;
+    openings where no order goes unstable are left out.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    fig = fig or plt.figure(figsize=(7, 6.5), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    deg = _opening_degrees(ds)
+    ns = ds.n.values if "n" in ds.dims else [None]
+    for i, n in enumerate(ns):
+        sub = ds if n is None else ds.sel(n=n)
+        label = "" if n is None else f"$n = {n:g}$"
+        top.plot(deg, sub.second_virial_coefficient.values, "-", color=f"C{i}", label=label)
+        reduced = sub.reduced_instability_density
+        leading = sub.leading_instability.values
+        best = reduced.min("order", skipna=True).values
+        bottom.plot(deg, best, "-", color=f"C{i}", lw=1)
+        for k, marker in ORDER_MARKERS.items():
+            pick = leading == k
+            if pick.any():
+                bottom.plot(deg[pick], best[pick], marker, color=f"C{i}", ms=3.5, ls="none")
+    top.set(ylabel=r"$B_2 = \langle A_\mathrm{ex} \rangle / 2$ ($b^2$)", ylim=(0, None))
+    if ns[0] is not None:
+        top.legend(frameon=False, fontsize=8)
+    handles = [Line2D([], [], color="0.3", marker=m, ls="none", label=f"{ORDER_NAME[k]} ($k = {k}$)")
+               for k, m in ORDER_MARKERS.items() if k in ORDER_NAME]  # fmt: skip
+    bottom.legend(handles=handles, frameon=False, fontsize=8, title="first unstable order", title_fontsize=8)
+    bottom.set(xlabel=r"opening $\Psi$ (degrees)", ylabel=r"$\rho^*_k \langle A_\mathrm{ex} \rangle$", yscale="log")
+    bottom.set_xticks(np.arange(0, 361, 45))
+    top.set_title("isotropic state: second virial coefficient and first instability", fontsize=10)
+    return fig
+
+
 FIGURES = {
     # file name: (sweep folder, what to draw)
     "fig1_shape_gallery.png": (None, "gallery"),
@@ -305,6 +350,7 @@ FIGURES = {
     "fig4_asp_opening.png": ("asp_opening", "curve"),
     "fig5_exponent_opening_orientation.png": ("exponent_opening_orientation", "panels"),
     "topology_asp.png": ("asp_opening", "topology"),
+    "onsager_exponent_opening.png": ("exponent_opening_orientation", "onsager"),
 }
 
 
@@ -361,8 +407,8 @@ def render_figures(results, out) -> list:
 def figure(kind: str, ds: xr.Dataset | None = None):
     """One of the paper's figures as a matplotlib Figure.
 
-    ``kind`` is "gallery", "maps" (dots), "maps_raster", "curve", "panels" or
-    "topology"; ``ds`` is the matching collected sweep (not for "gallery").
+    ``kind`` is "gallery", "maps" (dots), "maps_raster", "curve", "panels",
+    "topology" or "onsager"; ``ds`` is the matching collected sweep (not for "gallery").
     """
     if kind == "gallery":
         return shape_gallery()
@@ -378,4 +424,6 @@ def figure(kind: str, ds: xr.Dataset | None = None):
         return excluded_area_panels(ds)
     if kind == "topology":
         return topology_plot(ds)
+    if kind == "onsager":
+        return onsager_plot(ds)
     raise ValueError(f"unknown figure kind {kind!r}")

@@ -27,7 +27,7 @@ import numpy as np
 
 from .dataset import LONG_NAMES, field_sha256
 
-__all__ = ["Reduction", "StoredField", "ExcludedAreaByPhi", "FIELDS"]
+__all__ = ["Reduction", "StoredField", "ExcludedAreaByPhi", "EntangledAreaByPhi", "FIELDS"]
 
 FIELDS = ("allowed", "crossings", "entangled")
 _DTYPES = {"allowed": bool, "crossings": np.uint16, "entangled": bool}
@@ -94,3 +94,20 @@ class ExcludedAreaByPhi(Reduction):
     def finish(self):
         attrs = {"units": "b^2", "long_name": "excluded area at fixed orientation A_ex(φ)"}
         return {"excluded_area": (("phi",), self.excluded * self.cell, attrs)}
+
+
+class EntangledAreaByPhi(Reduction):
+    """A_ent(φ) = (entangled states at φ) · dx · dy, in b²: the area where particle 2 is allowed and entangled."""
+
+    fields = ("allowed", "entangled")
+
+    def start(self, pair, grid):
+        self.cell = grid.dx * grid.dy
+        self.count = np.zeros(grid.nphi, dtype=np.int64)
+
+    def add(self, part):
+        self.count[part.k0 : part.k1] = np.count_nonzero(part.entangled, axis=(1, 2))
+
+    def finish(self):
+        attrs = {"units": "b^2", "long_name": "entangled area at fixed orientation A_ent(φ)"}
+        return {"entangled_area": (("phi",), self.count * self.cell, attrs)}

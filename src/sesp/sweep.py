@@ -591,7 +591,7 @@ def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:
         coords.update(_parameter_coords(d, (d,), np.asarray(manifest["coords"][d], dtype=float)))
     for name, value in manifest.get("fixed", {}).items():
         coords.update(_parameter_coords(name, (), value))
-    for name in ("phi", "y", "x"):
+    for name in first.dims:  # the points' own dimensions: phi, y, x, k, order, ...
         if name in first.coords:
             coords[name] = first[name]
     variables = {}

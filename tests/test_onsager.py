@@ -1,0 +1,127 @@
+"""Virial coefficients, orientational spectrum and Onsager instabilities against exact results."""
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from sesp import Grid, Polyline, SeSP, analyze, convex_excluded_area, excluded_area, scan, shifted_excluded_area
+from sesp.onsager import (
+    contact_density,
+    entangled_neighbours,
+    instabilities,
+    mixture_second_virial,
+    orientational_spectrum,
+    second_virial,
+    virial_matrix,
+)
+
+from cases import NEEDLE
+
+L = 2.0  # NEEDLE's length
+
+
+def _uniform(values_of_phi, nphi):
+    phi = 2 * np.pi * np.arange(nphi) / nphi
+    return xr.DataArray(values_of_phi(phi), coords={"phi": phi}, dims="phi", attrs={"units": "b^2"})
+
+
+def _ring(radius, segments=256):
+    theta = np.linspace(0, 2 * np.pi, segments + 1)
+    theta[-1] = 0.0
+    return Polyline(radius * np.column_stack([np.cos(theta), np.sin(theta)]))
+
+
+def test_needle_spectrum_from_exact_samples_and_its_error_bars():
+    for nphi in (64, 256):
+        spectrum = orientational_spectrum(_uniform(lambda p: L**2 * np.abs(np.sin(p)), nphi), 6)
+        exact_a2 = -4 * L**2 / (3 * math.pi)
+        a2, err = float(spectrum.a.sel(k=2)), float(spectrum.a_error.sel(k=2))
+        assert abs(a2 - exact_a2) <= err  # the bar covers the exact value
+        if nphi == 256:
+            assert abs(a2 / exact_a2 - 1) < 1e-3
+        np.testing.assert_allclose(spectrum.b, 0, atol=1e-12)  # even in φ
+
+
+def test_needles_scanned_give_the_onsager_nematic_bifurcation():
+    area = shifted_excluded_area(NEEDLE, Grid(512, nphi=256))
+    assert float(second_virial(area)) * 2 == pytest.approx(2 * L**2 / math.pi, rel=1e-3)
+    found = instabilities(area)
+    assert int(found.leading_order) == 2
+    rho = float(found.density.sel(k=2))
+    assert rho * L**2 == pytest.approx(3 * math.pi / 2, rel=1e-3)
+    assert float(found.reduced_density.sel(k=2)) == pytest.approx(3.0, rel=1e-3)
+    assert np.isnan(found.density.sel(k=1))  # a₁ = 0: no polar instability
+
+
+def test_rings_are_never_unstable():
+    ring = _ring(0.8)
+    area = excluded_area(scan(ring, Grid(384, nphi=32)), by="phi")
+    assert float(second_virial(area)) == pytest.approx(2 * math.pi * 0.8**2, rel=1e-3)
+    spectrum = orientational_spectrum(area, 8)
+    assert np.all(np.abs(spectrum.a.sel(k=slice(1, None))) < 1e-3 * float(spectrum.a.sel(k=0)))
+    assert int(instabilities(area).leading_order) == 0
+
+
+@pytest.mark.parametrize("n", [2, 4])
+def test_closed_convex_b2_is_half_of_2a_plus_p2_over_2pi(n):
+    particle = SeSP(n=n)
+    area = shifted_excluded_area(particle, Grid(256, nphi=64), segments=256)
+    exact = convex_excluded_area(particle.polyline(256)) / 2
+    assert float(second_virial(area)) == pytest.approx(exact, rel=1e-3)
+
+
+@pytest.mark.parametrize("radius", [0.8, 1.25])
+def test_needle_ring_mixture_cross_coefficient(radius):
+    """L > 2R: A_ex = πR² + 2RL; L < 2R: minus the lens of positions where the needle fits inside."""
+    ring = _ring(radius)
+    cross = excluded_area(scan(NEEDLE, Grid(384, nphi=16), other=ring), by="phi")
+    exact = math.pi * radius**2 + 2 * radius * L
+    if L < 2 * radius:
+        exact -= 2 * radius**2 * math.acos(L / (2 * radius)) - (L / 2) * math.sqrt(4 * radius**2 - L**2)
+    np.testing.assert_allclose(cross.values, exact, rtol=5e-3)
+    needles = _uniform(lambda p: L**2 * np.abs(np.sin(p)), 16)
+    rings = _uniform(lambda p: np.full_like(p, 4 * math.pi * radius**2), 16)
+    matrix = virial_matrix(needles, cross, rings)
+    assert float(matrix.sel(species_i="A", species_j="B")) == pytest.approx(float(cross.mean()) / 2)
+    assert float(mixture_second_virial(matrix, 1.0)) == pytest.approx(float(second_virial(needles)))
+    assert float(mixture_second_virial(matrix, 0.0)) == pytest.approx(2 * math.pi * radius**2)
+    half = 0.25 * (float(matrix[0, 0]) + 2 * float(matrix[0, 1]) + float(matrix[1, 1]))
+    assert float(mixture_second_virial(matrix, 0.5)) == pytest.approx(half)
+
+
+def test_entanglement_and_contact_quantities_from_analyze():
+    ds = analyze(SeSP(n=2, opening=math.pi / 2), Grid(48, nphi=16), segments=48, keep=["classes"])
+    assert float(ds.mean_entangled_area) > 0
+    z = entangled_neighbours(ds.entangled_area, 0.5)
+    assert float(z) == pytest.approx(0.5 * float(ds.entangled_area.mean()))
+    assert float(contact_density(ds.excluded_area, 4.0)) * float(ds.mean_excluded_area) == pytest.approx(4.0)
+    assert int(ds.leading_instability) in (0, 1, 2, 3, 4, 6)
+    assert ds.spectrum_cos.dims == ("k",) and ds.instability_density.dims == ("order",)
+
+
+@pytest.mark.parametrize(
+    "call, word",
+    [
+        (lambda a: orientational_spectrum(a, 100), "order"),
+        (lambda a: orientational_spectrum(a.isel(phi=[0, 1, 3]), 1), "uniform"),
+        (lambda a: entangled_neighbours(a, -1), "density"),
+        (lambda a: contact_density(a, 0), "contacts"),
+        (lambda a: instabilities(a, [0]), "orders"),
+    ],
+)
+def test_bad_arguments_name_the_parameter(call, word):
+    with pytest.raises(ValueError, match=word):
+        call(_uniform(lambda p: 1 + 0 * p, 16))
+
+
+def test_thick_needle_spectrum_in_closed_form():
+    """A_ex(φ) = L²|sin φ| + 4LD + πD²: the thickness shifts a₀ only."""
+    thickness = 0.1
+    constant = 4 * L * thickness + math.pi * thickness**2
+    spectrum = orientational_spectrum(_uniform(lambda p: L**2 * np.abs(np.sin(p)) + constant, 256), 4)
+    exact = {0: 4 * L**2 / math.pi + 2 * constant, 2: -4 * L**2 / (3 * math.pi), 4: -4 * L**2 / (15 * math.pi)}
+    for k, value in exact.items():
+        a, err = float(spectrum.a.sel(k=k)), float(spectrum.a_error.sel(k=k))
+        assert abs(a - value) <= err and abs(a / value - 1) < 1e-3, k
