@@ -20,7 +20,7 @@ def _random_states(rng, reach, count):
 
 def _kernel_counts(c1, c2, x, y, phi):
     out = np.empty(len(x), dtype=np.uint16)
-    crossings_at_states(c1.vertices, c2.vertices, x, y, phi, 1e-9, True, out)
+    crossings_at_states(c1.vertices, c2.vertices, x, y, phi, 1e-9, 0.0, True, out)
     return out
 
 
@@ -48,26 +48,44 @@ def test_overlap_matches_shapely_intersects(i):
 
 def test_pair_predicate_closed_and_degenerate():
     d, f = (1.0, 0.0), (0.0, 1.0)
-    assert in_pair_set(0.0, 0.0, *d, *f, 1.0, 1.0, 0.0)  # corner: touching counts
-    assert in_pair_set(1.0, 1.0, *d, *f, 1.0, 1.0, 0.0)
-    assert not in_pair_set(1.0 + 1e-6, 0.5, *d, *f, 1.0, 1.0, 1e-9)
+    assert in_pair_set(0.0, 0.0, *d, *f, 1.0, 1.0, 0.0, 0.0)  # corner: touching counts
+    assert in_pair_set(1.0, 1.0, *d, *f, 1.0, 1.0, 0.0, 0.0)
+    assert not in_pair_set(1.0 + 1e-6, 0.5, *d, *f, 1.0, 1.0, 1e-9, 0.0)
     # parallel segments: the set is the segment [-1, 1] x {0}
-    assert in_pair_set(0.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
-    assert in_pair_set(-1.0, 1e-10, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
-    assert not in_pair_set(1.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
-    assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert in_pair_set(0.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
+    assert in_pair_set(-1.0, 1e-10, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
+    assert not in_pair_set(1.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
+    assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
     # nearly parallel: no tolerance tail far along the segments
-    assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9)
+    assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9, 0.0)
 
 
 def test_parallel_and_serial_raster_kernels_agree():
     pair = Pair.of(SeSP(n=8, opening=1.0), segments=40)
     g = resolve_grid(pair, Grid(33, nphi=16))
     c, s = g.rotations()
-    args = (pair.vertices1, pair.vertices2, c, s, g.x, g.y, pair.tolerance, True)
+    args = (pair.vertices1, pair.vertices2, c, s, g.x, g.y, pair.tolerance, 0.0, True)
     parallel = np.zeros((16, 33, 33), dtype=np.uint16)
     serial = np.zeros_like(parallel)
     raster_slices(*args, parallel)
     raster_slices_serial(*args, serial)
     np.testing.assert_array_equal(parallel, serial)
     assert parallel.any()
+
+
+def test_thick_pair_predicate_is_the_distance_to_the_parallelogram():
+    """Random points against the exact distance to {λd + μf} (shapely), with and without a contact distance."""
+    rng = np.random.default_rng(11)
+    for _ in range(200):
+        d, f = rng.normal(size=2), rng.normal(size=2)
+        if rng.random() < 0.2:
+            f = -0.7 * d  # a degenerate (parallel) pair
+        contact = rng.choice([0.0, 0.05, 0.3])
+        w = rng.normal(size=2) * 1.5
+        corners = np.array([[0, 0], d, d + f, f])
+        region = shapely.Polygon(corners) if abs(d[0] * f[1] - d[1] * f[0]) > 1e-12 else shapely.LineString(corners)
+        distance = region.distance(shapely.Point(w))
+        if abs(distance - contact) < 1e-9:
+            continue
+        got = in_pair_set(w[0], w[1], *d, *f, np.hypot(*d), np.hypot(*f), 1e-12, contact)
+        assert got == (distance <= contact), (d, f, w, contact, distance)

@@ -85,7 +85,7 @@ def test_mirrored_slices_equal_computed_slices(first, second, nx, nphi, segments
 
 def _counts(c1, c2, x, y, phi):
     out = np.empty(len(x), dtype=np.uint16)
-    crossings_at_states(c1.vertices, c2.vertices, np.asarray(x), np.asarray(y), np.asarray(phi), 1e-9, True, out)
+    crossings_at_states(c1.vertices, c2.vertices, np.asarray(x), np.asarray(y), np.asarray(phi), 1e-9, 0.0, True, out)
     return out
 
 

@@ -10,7 +10,15 @@ import math
 
 import numpy as np
 
-__all__ = ["check_positive", "check_count", "check_segments", "check_opening", "check_choice", "check_samples"]
+__all__ = [
+    "check_nonnegative",
+    "check_positive",
+    "check_count",
+    "check_segments",
+    "check_opening",
+    "check_choice",
+    "check_samples",
+]
 
 
 def check_positive(name: str, value) -> float:
@@ -20,6 +28,16 @@ def check_positive(name: str, value) -> float:
     value = float(value)
     if not math.isfinite(value) or value <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def check_nonnegative(name: str, value) -> float:
+    """A finite number >= 0, as float."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value) or value < 0:
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
     return value
 
 

@@ -35,6 +35,7 @@ def _add_shape_args(p: argparse.ArgumentParser):
     p.add_argument("--n", type=float, default=2.0, help="degree along x (default 2)")
     p.add_argument("--m", type=float, default=None, help="degree along y (default: n)")
     p.add_argument("--aspect", type=float, default=1.0, help="aspect ratio A = a/b (default 1)")
+    p.add_argument("--thickness", type=float, default=0.0, help="particle thickness D in b (default 0: thin)")
     p.add_argument("--segments", type=int, default=256, help="polyline segments N (default 256)")
 
 
@@ -56,7 +57,7 @@ def _shape_from_args(args, opening_deg: float):
 
     if not (0.0 <= opening_deg < 360.0):
         raise ValueError(f"--opening must be in [0, 360) degrees, got {opening_deg}")
-    return SeSP(n=args.n, m=args.m, aspect=args.aspect, opening=math.radians(opening_deg))
+    return SeSP(n=args.n, m=args.m, aspect=args.aspect, opening=math.radians(opening_deg), thickness=args.thickness)
 
 
 def _cmd_scan(args) -> int:
@@ -193,7 +194,7 @@ def _cmd_collect(args) -> int:
     return 0
 
 
-PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology", "onsager")
+PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology", "onsager", "thickness")
 
 
 def _add_plot(sub):

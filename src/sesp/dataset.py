@@ -105,6 +105,7 @@ def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
     attrs = {f"{prefix}_kind": type(particle).__name__}
     if isinstance(particle, SeSP):
         attrs.update({f"{prefix}_{k}": getattr(particle, k) for k in SHAPE_KEYS})
+    attrs[f"{prefix}_thickness"] = curve.thickness
     attrs[f"{prefix}_segments"] = curve.segments
     attrs[f"{prefix}_length"] = curve.length
     attrs[f"{prefix}_max_radius"] = curve.max_radius
@@ -115,10 +116,11 @@ def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
 def particle_from_attrs(attrs, prefix: str = "particle"):
     """The SeSP or Polyline described by :func:`particle_attrs`."""
     kind = attrs.get(f"{prefix}_kind")
+    thickness = float(attrs.get(f"{prefix}_thickness", 0.0))
     if kind == "SeSP":
-        return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in SHAPE_KEYS})
+        return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in SHAPE_KEYS}, thickness=thickness)
     if kind == "Polyline":
-        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2))
+        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2), thickness=thickness)
     raise SespFileError(f"attribute {prefix}_kind must be 'SeSP' or 'Polyline', got {kind!r}")
 
 
@@ -128,6 +130,7 @@ def pair_attrs(pair: Pair) -> dict:
     attrs.update(particle_attrs(pair.particle, pair.curve1, "particle"))
     attrs.update(particle_attrs(pair.other, pair.curve2, "other"))
     attrs["identical_particles"] = int(pair.identical)
+    attrs["contact_distance"] = pair.contact
     attrs["touch_tolerance"] = pair.tolerance
     return attrs
 

@@ -73,13 +73,16 @@ def _compute(pair: Pair, grid: Grid, k0, k1, engine, crossings, entangled) -> Sl
     cos_phi, sin_phi = (r[k0:k1] for r in grid.rotations())
     v1, v2 = pair.vertices1, pair.vertices2
     counts = overlap.crossing_field(
-        v1, v2, cos_phi, sin_phi, grid.x, grid.y, pair.tolerance, engine=engine, count=crossings, reach=pair.reach
-    )
+        v1, v2, cos_phi, sin_phi, grid.x, grid.y, pair.tolerance,
+        contact=pair.contact, engine=engine, count=crossings, reach=pair.reach,
+    )  # fmt: skip
     allowed = counts == 0
     tangled = None
     if entangled:
         hull1, hull2 = pair.hulls()
-        tangled = hull.mutual_hull_field(v1, hull1, v2, hull2, cos_phi, sin_phi, grid.x, grid.y, pair.tolerance)
+        tangled = hull.mutual_hull_field(
+            v1, hull1, v2, hull2, cos_phi, sin_phi, grid.x, grid.y, pair.tolerance, pair.contact
+        )
         tangled &= allowed
     return Slices(k0, k1, allowed, counts if crossings else None, tangled)
 
@@ -268,7 +271,8 @@ def monte_carlo(
     rng = _rng(seed)
     x, y = rng.uniform(-side / 2, side / 2, size=(2, samples))
     phi = rng.uniform(0.0, 2 * math.pi, size=samples)
-    overlap_ = overlap.state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance) > 0
+    overlap_ = overlap.state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance, contact=pair.contact)
+    overlap_ = overlap_ > 0
     p = overlap_.mean()
     attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
     area = {"units": "b^2"}

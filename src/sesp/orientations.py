@@ -26,6 +26,8 @@ SCREEN_SLACK = 1e-9
 def blocked_orientations(particle, x: float, y: float, *, other=None, segments: int = DEFAULT_SEGMENTS):
     """The orientations φ at which particle 2, centred at (x, y), meets particle 1: exact in φ.
 
+    For thick particles, "meets" is "comes within the contact distance".
+
     Parameters
     ----------
     particle, other, segments
@@ -39,7 +41,7 @@ def blocked_orientations(particle, x: float, y: float, *, other=None, segments: 
         Sorted, possibly overlapping intervals [start, end] of φ in [0, 2π], radians.
     """
     pair = as_pair(particle, other, segments)
-    starts, ends = orientations.blocked_intervals(pair.vertices1, pair.vertices2, x, y, SCREEN_SLACK)
+    starts, ends = orientations.blocked_intervals(pair.vertices1, pair.vertices2, x, y, SCREEN_SLACK, pair.contact)
     return np.column_stack([starts, ends])
 
 
@@ -66,6 +68,6 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
     pair = as_pair(particle, other, segments)
     xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     out = orientations.allowed_measures(
-        pair.vertices1, pair.vertices2, xs.ravel().copy(), ys.ravel().copy(), SCREEN_SLACK, ANGLE_GAP
+        pair.vertices1, pair.vertices2, xs.ravel().copy(), ys.ravel().copy(), SCREEN_SLACK, ANGLE_GAP, pair.contact
     )  # owned, writeable copies
     return out.reshape(xs.shape)

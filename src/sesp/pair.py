@@ -1,16 +1,17 @@
 """The pair of particles a computation is about, prepared once for every engine.
 
 A :class:`Pair` holds the two particles as given, their polylines, and how
-the curves meet: the contact tolerance (touching counts as overlap), the
-reach r₁ + r₂ beyond which they cannot meet, and whether the pair is mirror
-symmetric about the x axis. Every engine (raster, direct, Monte Carlo, the
+the curves meet: the contact distance of thick particles, the contact
+tolerance (touching counts as overlap), the reach r₁ + r₂ + contact beyond
+which they cannot meet, and whether the pair is mirror symmetric about the
+x axis. Every engine (raster, direct, Monte Carlo, the
 entanglement hull test and the exact-in-φ orientation intervals) takes a
 prepared pair, so a property of how particles meet is set here, once.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -58,9 +59,14 @@ class Pair:
         return cls(particle, particle if other is None else other, curve1, curve2, int(segments))
 
     @property
+    def contact(self) -> float:
+        """Contact distance (D₁ + D₂)/2 (b): the curves overlap when they come this close (0: thin)."""
+        return 0.5 * (self.curve1.thickness + self.curve2.thickness)
+
+    @property
     def reach(self) -> float:
-        """r₁ + r₂ (b): centres further apart than this cannot meet."""
-        return self.curve1.max_radius + self.curve2.max_radius
+        """r₁ + r₂ + contact (b): centres further apart than this cannot meet."""
+        return self.curve1.max_radius + self.curve2.max_radius + self.contact
 
     @property
     def tolerance(self) -> float:
@@ -97,12 +103,23 @@ class Pair:
             self._hulls["both"] = (self.curve1.hull(), self.curve2.hull())
         return self._hulls["both"]
 
+    def thickened(self, extra: float) -> Pair:
+        """The same pair with both particles ``extra`` (b) thicker: the contact distance grows by ``extra``."""
+        particle, other = (_thicker(p, c, extra) for p, c in ((self.particle, self.curve1), (self.other, self.curve2)))
+        return Pair.of(particle, None if self.other is self.particle else other, segments=self.segments)
+
     def closed(self) -> Pair:
         """The same pair with both SeSPs closed (Ψ = 0)."""
         if not self.mirror_symmetric:
             raise ValueError("the closed shape is defined for SeSPs only: pass reference= for a Polyline")
         other = None if self.other is self.particle else self.other.closed()
         return Pair.of(self.particle.closed(), other, segments=self.segments)
+
+
+def _thicker(particle, curve: Polyline, extra: float):
+    if isinstance(particle, SeSP):
+        return replace(particle, thickness=particle.thickness + extra)
+    return Polyline(curve.vertices, thickness=curve.thickness + extra)
 
 
 def as_pair(particle, other=None, segments: int = DEFAULT_SEGMENTS) -> Pair:

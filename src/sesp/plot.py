@@ -31,6 +31,7 @@ __all__ = [
     "render_figures",
     "figure",
     "onsager_plot",
+    "thickness_curves",
 ]
 
 PHI_CMAP = "twilight"
@@ -297,6 +298,34 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
     return fig
 
 
+def thickness_curves(ds: xr.Dataset, *, fig=None):
+    """Normalised orientation-averaged A_ex against Ψ, one line per thickness D, one panel per n.
+
+    ``ds`` is a collected sweep over ``n``, ``opening`` and ``thickness``
+    (``sweeps/thickness_opening.toml``); each curve is normalised by the
+    closed shape of the same thickness.
+    """
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    ns = ds.n.values if "n" in ds.dims else [float(ds.n)]
+    fig = fig or plt.figure(figsize=(4.2 * len(ns), 3.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(ns), sharey=True, squeeze=False)).ravel()
+    deg = _opening_degrees(ds)
+    thicknesses = ds.thickness.values
+    colors = matplotlib.colormaps["viridis"](np.linspace(0, 0.85, len(thicknesses)))
+    for ax, n in zip(axes, ns):
+        sub = ds.sel(n=n) if "n" in ds.dims else ds
+        for color, thickness in zip(colors, thicknesses):
+            value = sub.mean_normalized_excluded_area.sel(thickness=thickness).values
+            ax.plot(deg, value, color=color, lw=1.3, label=f"$D = {thickness:g}\\,b$")
+        ax.set(title=f"$n = {n:g}$", xlabel=r"opening $\Psi$ (degrees)", xlim=(0, 360), ylim=(0, None))
+        ax.set_xticks(np.arange(0, 361, 90))
+    axes[0].set_ylabel(r"$\langle A_\mathrm{ex} \rangle / \langle A_\mathrm{ex} \rangle_\mathrm{closed}$")
+    axes[-1].legend(frameon=False, fontsize=8, title="thickness", title_fontsize=8)
+    return fig
+
+
 ORDER_MARKERS = {1: "o", 2: "s", 3: "v", 4: "D", 6: "h"}
 
 
@@ -351,6 +380,7 @@ FIGURES = {
     "fig5_exponent_opening_orientation.png": ("exponent_opening_orientation", "panels"),
     "topology_asp.png": ("asp_opening", "topology"),
     "onsager_exponent_opening.png": ("exponent_opening_orientation", "onsager"),
+    "thickness_opening.png": ("thickness_opening", "thickness"),
 }
 
 
@@ -408,7 +438,7 @@ def figure(kind: str, ds: xr.Dataset | None = None):
     """One of the paper's figures as a matplotlib Figure.
 
     ``kind`` is "gallery", "maps" (dots), "maps_raster", "curve", "panels",
-    "topology" or "onsager"; ``ds`` is the matching collected sweep (not for "gallery").
+    "topology", "onsager" or "thickness"; ``ds`` is the matching collected sweep (not for "gallery").
     """
     if kind == "gallery":
         return shape_gallery()
@@ -426,4 +456,6 @@ def figure(kind: str, ds: xr.Dataset | None = None):
         return topology_plot(ds)
     if kind == "onsager":
         return onsager_plot(ds)
+    if kind == "thickness":
+        return thickness_curves(ds)
     raise ValueError(f"unknown figure kind {kind!r}")

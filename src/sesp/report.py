@@ -84,7 +84,9 @@ def _particle_line(attrs, prefix) -> str:
         )
     else:
         shape = f"Polyline of {attrs[f'{prefix}_segments']} segments"
-    return f"{prefix:9s}: {shape}, N={attrs[f'{prefix}_segments']}, length={attrs[f'{prefix}_length']:.6g} b"
+    thickness = float(attrs.get(f"{prefix}_thickness", 0.0))
+    thick = f", thickness={thickness:g} b" if thickness else ""
+    return f"{prefix:9s}: {shape}, N={attrs[f'{prefix}_segments']}, length={attrs[f'{prefix}_length']:.6g} b{thick}"
 
 
 def _area_line(ds) -> str:

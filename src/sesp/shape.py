@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import check_opening, check_positive, check_segments
+from .checks import check_nonnegative, check_opening, check_positive, check_segments
 
 __all__ = ["SeSP", "Polyline", "as_polyline", "convex_hull", "DEFAULT_SEGMENTS"]
 
@@ -33,6 +33,9 @@ class Polyline:
     vertices : (K, 2) array_like
         K >= 2 finite vertices in units of b. Consecutive vertices must differ.
         A closed curve repeats its first vertex at the end.
+    thickness : float
+        Thickness D >= 0 in units of b: the particle is every point within
+        D/2 of the polyline (a bent wire). 0, the default, is the thin curve.
 
     Examples
     --------
@@ -41,7 +44,7 @@ class Polyline:
     2.0
     """
 
-    def __init__(self, vertices):
+    def __init__(self, vertices, thickness: float = 0.0):
         v = np.array(vertices, dtype=np.float64)
         if v.ndim != 2 or v.shape[1] != 2:
             raise ValueError(f"vertices must have shape (K, 2), got {v.shape}")
@@ -53,6 +56,7 @@ class Polyline:
         if np.any(seg == 0):
             k = int(np.flatnonzero(seg == 0)[0])
             raise ValueError(f"vertices {k} and {k + 1} coincide: segments must have length > 0")
+        self.thickness = check_nonnegative("thickness", thickness)
         v.flags.writeable = False
         self._vertices = v
 
@@ -108,13 +112,18 @@ class Polyline:
         return convex_hull(self._vertices)
 
     def __eq__(self, other) -> bool:
-        return isinstance(other, Polyline) and np.array_equal(self._vertices, other._vertices)
+        return (
+            isinstance(other, Polyline)
+            and np.array_equal(self._vertices, other._vertices)
+            and self.thickness == other.thickness
+        )
 
     def __hash__(self):
-        return hash(self._vertices.tobytes())
+        return hash((self._vertices.tobytes(), self.thickness))
 
     def __repr__(self) -> str:
-        return f"Polyline(<{self._vertices.shape[0]} vertices>, length={self.length:.6g})"
+        thick = f", thickness={self.thickness:g}" if self.thickness else ""
+        return f"Polyline(<{self._vertices.shape[0]} vertices>, length={self.length:.6g}{thick})"
 
 
 def convex_hull(points) -> np.ndarray:
@@ -162,6 +171,10 @@ class SeSP:
         Aspect ratio A = a/b > 0; the semi-axes are A along x and 1 along y.
     opening : float
         Opening aperture Ψ in radians, 0 <= Ψ < 2π. Ψ = 0 is the closed curve.
+    thickness : float
+        Thickness D >= 0 in units of b: the particle is every point within D/2
+        of the curve. Two particles overlap when their curves come closer than
+        (D₁ + D₂)/2. 0, the default, is the infinitely thin curve.
 
     References
     ----------
@@ -181,6 +194,7 @@ class SeSP:
     m: float | None = None
     aspect: float = 1.0
     opening: float = 0.0
+    thickness: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "n", check_positive("n", self.n))
@@ -188,10 +202,11 @@ class SeSP:
         object.__setattr__(self, "m", m)
         object.__setattr__(self, "aspect", check_positive("aspect", self.aspect))
         object.__setattr__(self, "opening", check_opening(self.opening))
+        object.__setattr__(self, "thickness", check_nonnegative("thickness", self.thickness))
 
     def closed(self) -> SeSP:
         """The same shape with no opening (Ψ = 0)."""
-        return SeSP(n=self.n, m=self.m, aspect=self.aspect, opening=0.0)
+        return SeSP(n=self.n, m=self.m, aspect=self.aspect, opening=0.0, thickness=self.thickness)
 
     @property
     def is_convex_closed(self) -> bool:
@@ -304,7 +319,7 @@ class SeSP:
         if n_seg % 2 == 0:
             upper[-1] = self.point(math.pi)
         lower = upper[: (n_seg + 1) // 2][::-1] * np.array([1.0, -1.0])
-        return Polyline(np.concatenate([upper, lower]))
+        return Polyline(np.concatenate([upper, lower]), thickness=self.thickness)
 
 
 def as_polyline(particle, segments: int = DEFAULT_SEGMENTS) -> Polyline:

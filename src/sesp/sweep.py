@@ -19,6 +19,7 @@ Sweep file
     n = [2, 8]
     opening = { start = 0, stop = 180, step = 45 }   # stop included if on the step
     aspect = 1.0
+    thickness = 0.0             # D in b (bent wire, printed arc); a list sweeps it
     segments = 128
 
     [other]                     # optional: a different second particle (mixtures)
@@ -78,8 +79,16 @@ log = logging.getLogger(__name__)
 SHAPE_KEYS = ("n", "m", "aspect", "opening")
 SCHEMA = {
     "sweep": {"name": str, "output": str, "angles": str},
-    "particle": {"n": float, "m": float, "aspect": float, "opening": float, "segments": int, "vertices": list},
-    "other": {"n": float, "m": float, "aspect": float, "opening": float, "vertices": list},
+    "particle": {
+        "n": float,
+        "m": float,
+        "aspect": float,
+        "opening": float,
+        "thickness": float,
+        "segments": int,
+        "vertices": list,
+    },
+    "other": {"n": float, "m": float, "aspect": float, "opening": float, "thickness": float, "vertices": list},
     "grid": {"nx": int, "ny": int, "nphi": int},
     "output": {"keep": list},
 }
@@ -241,7 +250,7 @@ class SweepPoint:
             return particle, None
         if "vertices" in self.other:
             return particle, _particle(self.other)
-        shape = {k: self.particle[k] for k in SHAPE_KEYS if k in self.particle}
+        shape = {k: self.particle[k] for k in (*SHAPE_KEYS, "thickness") if k in self.particle}
         merged = {**shape, **self.other}
         if "n" in self.other and "m" not in self.other:
             merged.pop("m", None)
@@ -254,11 +263,12 @@ class SweepPoint:
 
 def _particle(params: dict):
     shape = {k: params[k] for k in SHAPE_KEYS if k in params}
+    thickness = params.get("thickness", 0.0)
     if "vertices" in params:
         if shape:
             raise ValueError(f"give vertices or the shape keys {SHAPE_KEYS}, not both (got {sorted(shape)})")
-        return Polyline(params["vertices"])
-    return SeSP(**shape)
+        return Polyline(params["vertices"], thickness=thickness)
+    return SeSP(**shape, thickness=thickness)
 
 
 def point_hash(payload: dict) -> str:

@@ -78,6 +78,111 @@ def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
 
 
 @njit(**JIT)
+def _point_segment_distance2(x, y, ax, ay, bx, by):
+    """Squared distance from (x, y) to the segment a–b."""
+    ex = bx - ax
+    ey = by - ay
+    length2 = ex * ex + ey * ey
+    lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / length2))
+    dx = ax + lam * ex - x
+    dy = ay + lam * ey - y
+    return dx * dx + dy * dy
+
+
+@njit(**JIT)
+def _within(px, py, qx, qy, ux, uy, vx, vy, crossing, contact):
+    """Whether segments p–q and u–v come within ``contact``: they cross, or an end point is that close."""
+    if crossing:
+        return True
+    r2 = contact * contact
+    return (
+        _point_segment_distance2(px, py, ux, uy, vx, vy) <= r2
+        or _point_segment_distance2(qx, qy, ux, uy, vx, vy) <= r2
+        or _point_segment_distance2(ux, uy, px, py, qx, qy) <= r2
+        or _point_segment_distance2(vx, vy, px, py, qx, qy) <= r2
+    )
+
+
+@njit(**JIT)
+def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, ends, n):
+    """:func:`_pair_angles` for thick particles: the φ intervals where the segments come within ``contact``.
+
+    Within ``contact`` means crossing, or an end point within ``contact`` of
+    the other segment. Each of these conditions changes only where a
+    sinusoid in φ vanishes: the four orientation values (crossing), the same
+    shifted by ±contact · length (distance of an end point from the other
+    line), the projections of each end point on the other segment reaching
+    its ends, and the distances between end points reaching ``contact``. So
+    between consecutive roots of those 24 sinusoids the answer is constant:
+    one midpoint test per piece.
+    """
+    dx = qx - px
+    dy = qy - py
+    ex = vx - ux
+    ey = vy - uy
+    dlen = math.hypot(dx, dy)
+    elen = math.hypot(ex, ey)
+    base = dx * (ty - py) - dy * (tx - px)
+    k1 = (base, dx * uy - dy * ux, dx * ux + dy * uy)
+    k2 = (base, dx * vy - dy * vx, dx * vx + dy * vy)
+    offset = -(ex * uy - ey * ux)
+    gpx, gpy = px - tx, py - ty
+    gqx, gqy = qx - tx, qy - ty
+    k3 = (offset, -(gpx * ey - gpy * ex), -(gpx * ex + gpy * ey))
+    k4 = (offset, -(gqx * ey - gqy * ex), -(gqx * ex + gqy * ey))
+    roots = np.empty(50)
+    m = 0
+    for k in (k1, k2):
+        for shift in (0.0, contact * dlen, -contact * dlen):
+            m = _sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
+    for k in (k3, k4):
+        for shift in (0.0, contact * elen, -contact * elen):
+            m = _sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
+    along = (tx - px) * dx + (ty - py) * dy
+    for wx, wy in ((ux, uy), (vx, vy)):  # moving end points' projections on p–q reach its ends
+        a = wx * dx + wy * dy
+        b = wx * dy - wy * dx
+        m = _sinusoid_roots(along, a, b, roots, m)
+        m = _sinusoid_roots(along - dlen * dlen, a, b, roots, m)
+    for gx, gy in ((gpx, gpy), (gqx, gqy)):  # fixed end points' projections on the moving segment
+        c0 = -(ux * ex + uy * ey)
+        a = gx * ex + gy * ey
+        b = gy * ex - gx * ey
+        m = _sinusoid_roots(c0, a, b, roots, m)
+        m = _sinusoid_roots(c0 - elen * elen, a, b, roots, m)
+        for wx, wy in ((ux, uy), (vx, vy)):  # end point to end point at distance contact
+            m = _sinusoid_roots(
+                gx * gx + gy * gy + wx * wx + wy * wy - contact * contact,
+                -2.0 * (gx * wx + gy * wy),
+                -2.0 * (gy * wx - gx * wy),
+                roots,
+                m,
+            )
+    roots[m] = 0.0
+    roots[m + 1] = TWO_PI
+    cuts = np.sort(roots[: m + 2])
+    for i in range(m + 1):
+        lo = cuts[i]
+        hi = cuts[i + 1]
+        if hi <= lo:
+            continue
+        mid = 0.5 * (lo + hi)
+        c = math.cos(mid)
+        s = math.sin(mid)
+        crossing = _pair_signs(mid, k1, k2, k3, k4)
+        ax, ay = tx + c * ux - s * uy, ty + s * ux + c * uy
+        bx, by = tx + c * vx - s * vy, ty + s * vx + c * vy
+        if _within(px, py, qx, qy, ax, ay, bx, by, crossing, contact):
+            if n > 0 and ends[n - 1] == lo:
+                ends[n - 1] = hi
+            else:
+                starts[n] = lo
+                ends[n] = hi
+                n += 1
+    return n
+
+
+@njit(**JIT)
 def _segment_distances(vx0, vy0, vx1, vy1, x, y):
     """(nearest, farthest) distance from (x, y) to the segment."""
     ex = vx1 - vx0
@@ -90,13 +195,13 @@ def _segment_distances(vx0, vy0, vx1, vy1, x, y):
 
 
 @njit(**JIT)
-def blocked_angles(v1, v2, tx, ty, slack):
-    """Sorted (starts, ends) of the φ intervals in [0, 2π) where curve 2 at t meets curve 1.
+def blocked_angles(v1, v2, tx, ty, slack, contact):
+    """Sorted (starts, ends) of the φ intervals in [0, 2π) where curve 2 at t comes within ``contact`` of curve 1.
 
     Pairs are screened first: rotated about its centre, segment j of curve 2
     stays in the annulus of radii [nearest, farthest distance of the segment
     from the centre] about t, so it can meet segment i only if segment i
-    reaches that annulus (widened by ``slack``).
+    reaches that annulus (widened by ``slack`` + ``contact``).
     """
     n1 = v1.shape[0] - 1
     n2 = v2.shape[0] - 1
@@ -111,15 +216,21 @@ def blocked_angles(v1, v2, tx, ty, slack):
     for j in range(n2):
         rin, rout = _segment_distances(v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1], 0.0, 0.0)
         for i in range(n1):
-            if near1[i] > rout + slack or far1[i] < rin - slack:
+            if near1[i] > rout + slack + contact or far1[i] < rin - slack - contact:
                 continue
-            if n + 5 > cap:  # one pair adds at most 5 intervals (9 pieces, adjacent ones merged)
+            if n + 26 > cap:  # one pair adds at most 25 intervals (49 pieces, adjacent ones merged)
                 cap *= 2
                 grown_s = np.empty(cap)
                 grown_e = np.empty(cap)
                 grown_s[:n] = starts[:n]
                 grown_e[:n] = ends[:n]
                 starts, ends = grown_s, grown_e
+            if contact > 0.0:
+                n = _thick_pair_angles(
+                    v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1], v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1],
+                    tx, ty, contact, starts, ends, n,
+                )  # fmt: skip
+                continue
             n = _pair_angles(
                 v1[i, 0],
                 v1[i, 1],
@@ -154,23 +265,23 @@ def free_measure(starts, ends, gap):
 
 
 @njit(**JIT, parallel=True)
-def allowed_angle_at(v1, v2, xs, ys, slack, gap, out):
+def allowed_angle_at(v1, v2, xs, ys, slack, gap, contact, out):
     """``out[p]`` = measure (radians) of the orientations allowed at translation (xs[p], ys[p]).
 
     Each point is written by one thread, so results do not depend on the thread count.
     """
     for p in prange(xs.shape[0]):
-        starts, ends = blocked_angles(v1, v2, xs[p], ys[p], slack)
+        starts, ends = blocked_angles(v1, v2, xs[p], ys[p], slack, contact)
         out[p] = free_measure(starts, ends, gap)
 
 
-def blocked_intervals(v1, v2, tx, ty, slack):
+def blocked_intervals(v1, v2, tx, ty, slack, contact=0.0):
     """Sorted (starts, ends) of the φ intervals where curve 2 at (tx, ty) meets curve 1, radians."""
-    return blocked_angles(v1, v2, float(tx), float(ty), slack)
+    return blocked_angles(v1, v2, float(tx), float(ty), slack, float(contact))
 
 
-def allowed_measures(v1, v2, xs, ys, slack, gap):
+def allowed_measures(v1, v2, xs, ys, slack, gap, contact=0.0):
     """(p,) measure in radians of the orientations allowed at each translation (xs[p], ys[p])."""
     out = np.empty(len(xs))
-    allowed_angle_at(v1, v2, xs, ys, slack, gap, out)
+    allowed_angle_at(v1, v2, xs, ys, slack, gap, float(contact), out)
     return out

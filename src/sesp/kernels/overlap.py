@@ -12,6 +12,11 @@ Conventions shared by every kernel:
   for state, including at ties and on degenerate (parallel) pairs.
 * Touching counts as meeting: the predicate accepts points within ``delta``
   of P_ij (closed sets, one tolerance for every engine).
+* Thick particles meet when their centre curves come within the contact
+  distance ``contact`` = (D₁ + D₂)/2: segments i and j are that close exactly
+  when t lies within ``contact`` of P_ij (P_ij dilated by a disk), so the
+  same parallelogram set-up serves, with the edge distances checked near its
+  boundary. ``contact`` = 0 takes the thin code path unchanged.
 * Parallel kernels run ``prange`` over φ (or over samples); each slice is
   written by one thread, so results do not depend on the thread count.
 """
@@ -45,31 +50,58 @@ def pair_geometry(v1, b2, i, j):
 
 
 @njit(**JIT)
-def pair_setup(dx, dy, fx, fy, dlen, flen, delta):
+def pair_setup(dx, dy, fx, fy, dlen, flen, delta, contact):
     """Per-pair constants of the membership test :func:`pair_contains`.
 
     With D = d × f and w = λ d + μ f: λ D = w × f and μ D = d × w. The sign
-    makes D >= 0; the tolerances turn "within delta of an edge" into bounds
-    on those cross products; (lo, hi) bound the projection of w on d.
+    makes D >= 0; the tolerances turn "within delta (+ contact) of an edge"
+    into bounds on those cross products; (lo, hi) bound the projection of w
+    on d.
     """
     big_d = dx * fy - dy * fx
     sign = 1.0 if big_d >= 0.0 else -1.0
     inv_dlen = 1.0 / dlen
     q = (fx * dx + fy * dy) * inv_dlen
-    lo = min(q, 0.0) - delta
-    hi = dlen + max(q, 0.0) + delta
-    return sign * big_d, sign, delta * flen, delta * dlen, inv_dlen, lo, hi
+    reach = delta + contact
+    lo = min(q, 0.0) - reach
+    hi = dlen + max(q, 0.0) + reach
+    return sign * big_d, sign, reach * flen, reach * dlen, inv_dlen, lo, hi
 
 
 @njit(**JIT)
-def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
-    """True when w = t − c lies within delta of {λ d + μ f : λ, μ ∈ [0, 1]}.
+def _segment_distance2(wx, wy, ax, ay, ex, ey):
+    """Squared distance from w to the segment from a along e."""
+    length2 = ex * ex + ey * ey
+    s = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((wx - ax) * ex + (wy - ay) * ey) / length2))
+    px = ax + s * ex - wx
+    py = ay + s * ey - wy
+    return px * px + py * py
+
+
+@njit(**JIT)
+def _near_edges(wx, wy, dx, dy, fx, fy, reach):
+    """Whether w lies within ``reach`` of an edge of {λ d + μ f : λ, μ ∈ [0, 1]}."""
+    r2 = reach * reach
+    return (
+        _segment_distance2(wx, wy, 0.0, 0.0, dx, dy) <= r2
+        or _segment_distance2(wx, wy, fx, fy, dx, dy) <= r2
+        or _segment_distance2(wx, wy, 0.0, 0.0, fx, fy) <= r2
+        or _segment_distance2(wx, wy, dx, dy, fx, fy) <= r2
+    )
+
+
+@njit(**JIT)
+def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact):
+    """True when w = t − c lies within delta + contact of {λ d + μ f : λ, μ ∈ [0, 1]}.
 
     The two strip tests bound the distance to each pair of opposite edges;
     the projection test on d bounds the extent along d, which keeps a
     (near-)degenerate parallelogram, i.e. two (nearly) parallel segments,
     from growing long tolerance tails: when d ∥ f the set is a segment and
-    the tests reduce to "within delta of it".
+    the tests reduce to "within delta of it". For thin particles
+    (``contact`` = 0) they decide; for thick ones they only reject, and a
+    point that passes is in the set when it is in the thin parallelogram or
+    within delta + contact of one of its edges.
     """
     u = sign * (wx * fy - wy * fx)
     if u < -tol_f or u > big_d + tol_f:
@@ -78,14 +110,21 @@ def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, l
     if v < -tol_d or v > big_d + tol_d:
         return False
     p = (wx * dx + wy * dy) * inv_dlen
-    return p >= lo and p <= hi
+    if p < lo or p > hi:
+        return False
+    if contact == 0.0:
+        return True
+    # strictly inside a proper parallelogram, or within delta + contact of its edges
+    # (a degenerate one, two parallel segments, is all edge)
+    inside = big_d > 0.0 and 0.0 <= u <= big_d and 0.0 <= v <= big_d
+    return inside or _near_edges(wx, wy, dx, dy, fx, fy, delta + contact)
 
 
 @njit(**JIT)
-def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta):
+def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta, contact):
     """:func:`pair_contains` with its set-up: one pair, one point."""
-    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta)
-    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi)
+    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta, contact)
+    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact)
 
 
 @njit(**JIT)
@@ -99,13 +138,13 @@ def pair_bounds(cx, cy, dx, dy, fx, fy, margin):
 
 
 @njit(**JIT)
-def crossings_at(v1, dlen, b2, flen, tx, ty, delta, count):
+def crossings_at(v1, dlen, b2, flen, tx, ty, delta, contact, count):
     """Number of segment pairs that meet at translation (tx, ty).
 
     The direct test: every pair, with bounding-box rejection. When ``count``
     is False it stops at the first pair found (the result is then 0 or 1).
     """
-    margin = MARGIN_FACTOR * delta
+    margin = MARGIN_FACTOR * delta + contact
     found = 0
     for j in range(b2.shape[0] - 1):
         for i in range(v1.shape[0] - 1):
@@ -113,7 +152,7 @@ def crossings_at(v1, dlen, b2, flen, tx, ty, delta, count):
             xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
             if tx < xmin or tx > xmax or ty < ymin or ty > ymax:
                 continue
-            if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen[i], flen[j], delta):
+            if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen[i], flen[j], delta, contact):
                 found += 1
                 if not count:
                     return found
@@ -121,10 +160,10 @@ def crossings_at(v1, dlen, b2, flen, tx, ty, delta, count):
 
 
 @njit(**JIT, parallel=True)
-def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out):
+def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, reach, count, out):
     """Direct engine: ``out[k, iy, ix]`` = crossings at (xs[ix], ys[iy], φ_k).
 
-    ``reach`` = r₁ + r₂: states further apart cannot meet and are skipped.
+    ``reach`` = r₁ + r₂ + contact: states further apart cannot meet and are skipped.
     """
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
@@ -139,18 +178,18 @@ def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out):
                 if xs[ix] * xs[ix] + ys[iy] * ys[iy] > far:
                     out[k, iy, ix] = 0
                     continue
-                n = crossings_at(v1, dlen, b2, flen, xs[ix], ys[iy], delta, count)
+                n = crossings_at(v1, dlen, b2, flen, xs[ix], ys[iy], delta, contact, count)
                 out[k, iy, ix] = min(n, COUNT_MAX)
 
 
 @njit(**JIT)
-def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
+def raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out):
     """Minkowski raster of one orientation: add P_ij's nodes to ``out`` (ny, nx).
 
     ``out`` must be zero on entry. When ``count`` is False a node already
     marked is not tested again (only overlap, not the count, is wanted).
     """
-    margin = MARGIN_FACTOR * delta
+    margin = MARGIN_FACTOR * delta + contact
     inv_hx = 1.0 / (xs[1] - xs[0])
     inv_hy = 1.0 / (ys[1] - ys[0])
     for j in range(b2.shape[0] - 1):
@@ -163,7 +202,7 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
             ix0, ix1 = index_range(xmin, xmax, xs[0], inv_hx, xs.shape[0])
             if ix0 > ix1:
                 continue
-            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta)
+            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta, contact)
             for iy in range(iy0, iy1 + 1):
                 ty = ys[iy]
                 if ty < ymin or ty > ymax:
@@ -174,42 +213,44 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out):
                         continue
                     if not count and out[iy, ix] != 0:
                         continue
-                    if pair_contains(tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
+                    if pair_contains(
+                        tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact
+                    ):
                         if out[iy, ix] < COUNT_MAX:
                             out[iy, ix] += 1
 
 
 @njit(**JIT)
-def raster_phi(v1, dlen, v2, c, s, xs, ys, delta, count, out):
+def raster_phi(v1, dlen, v2, c, s, xs, ys, delta, contact, count, out):
     """Raster engine for one orientation (cosine c, sine s) into ``out`` (ny, nx), zeroed."""
     b2 = np.empty_like(v2)
     rotate(v2, c, s, b2)
     flen = np.empty(b2.shape[0] - 1)
     segment_lengths(b2, flen)
-    raster_slice(v1, dlen, b2, flen, xs, ys, delta, count, out)
+    raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out)
 
 
 @njit(**JIT, parallel=True)
-def raster_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
+def raster_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, count, out):
     """Raster engine: ``out[k]`` = crossings at φ_k over the grid (out zeroed), one thread per φ."""
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
     for k in prange(cos_phi.shape[0]):
-        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, contact, count, out[k])
 
 
 @njit(**JIT)
-def raster_slices_serial(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out):
+def raster_slices_serial(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, count, out):
     """:func:`raster_slices` in one thread: for small grids, where loading the
     parallel kernel costs more than it saves. Same slices, same results."""
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
     for k in range(cos_phi.shape[0]):
-        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, count, out[k])
+        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs, ys, delta, contact, count, out[k])
 
 
 @njit(**JIT, parallel=True)
-def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out):
+def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, contact, out):
     """``out[k]`` = overlapping nodes at φ_k on the lattice moved by ``shifts[k]``.
 
     Counts only: each thread rasterises one slice into its own scratch array.
@@ -218,12 +259,14 @@ def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out)
     segment_lengths(v1, dlen)
     for k in prange(cos_phi.shape[0]):
         field = np.zeros((ys.shape[0], xs.shape[0]), dtype=np.uint16)
-        raster_phi(v1, dlen, v2, cos_phi[k], sin_phi[k], xs + shifts[k, 0], ys + shifts[k, 1], delta, False, field)
+        raster_phi(
+            v1, dlen, v2, cos_phi[k], sin_phi[k], xs + shifts[k, 0], ys + shifts[k, 1], delta, contact, False, field
+        )
         out[k] = np.count_nonzero(field)
 
 
 @njit(**JIT, parallel=True)
-def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
+def crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out):
     """Direct test at arbitrary states (xs[s], ys[s], phis[s]): the Monte-Carlo path."""
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
@@ -232,7 +275,7 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, count, out):
         rotate(v2, math.cos(phis[s]), math.sin(phis[s]), b2)
         flen = np.empty(b2.shape[0] - 1)
         segment_lengths(b2, flen)
-        out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, count), COUNT_MAX)
+        out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, contact, count), COUNT_MAX)
 
 
 # --- the wrappers: arrays in, arrays out -------------------------------------------------
@@ -243,34 +286,35 @@ ENGINES = ("raster", "direct")
 SERIAL_STATES = 1 << 20
 
 
-def crossing_field(v1, v2, cos_phi, sin_phi, xs, ys, delta, *, engine="raster", count=False, reach=0.0):
+def crossing_field(v1, v2, cos_phi, sin_phi, xs, ys, delta, *, contact=0.0, engine="raster", count=False, reach=0.0):
     """(k, ny, nx) uint16: segment pairs that meet at (xs[ix], ys[iy], φ_k).
 
     With ``count`` False only overlap is wanted and a node stops at its first
-    pair (the value is then 0 or a lower bound). ``reach`` (r₁ + r₂) lets the
+    pair (the value is then 0 or a lower bound). Segments within ``contact``
+    (b) count as meeting (thick particles). ``reach`` (r₁ + r₂ + contact) lets the
     direct engine skip states that cannot meet. Both engines evaluate the same
     predicate and give identical fields.
     """
     out = np.zeros((len(cos_phi), len(ys), len(xs)), dtype=np.uint16)
     if engine == "raster":
         kernel = raster_slices_serial if out.size < SERIAL_STATES else raster_slices
-        kernel(v1, v2, cos_phi, sin_phi, xs, ys, delta, count, out)
+        kernel(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, count, out)
     elif engine == "direct":
-        direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, reach, count, out)
+        direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, reach, count, out)
     else:
         raise ValueError(f"engine must be one of {ENGINES}, got {engine!r}")
     return out
 
 
-def lattice_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta):
+def lattice_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, contact=0.0):
     """(k,) int64: overlapping nodes at φ_k on the lattice (xs, ys) moved by ``shifts[k]``."""
     out = np.zeros(len(cos_phi), dtype=np.int64)
-    shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, out)
+    shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, contact, out)
     return out
 
 
-def state_crossings(v1, v2, xs, ys, phis, delta, count=False):
+def state_crossings(v1, v2, xs, ys, phis, delta, count=False, contact=0.0):
     """(s,) uint16: segment pairs that meet at each arbitrary state (xs[s], ys[s], phis[s])."""
     out = np.empty(len(xs), dtype=np.uint16)
-    crossings_at_states(v1, v2, xs, ys, phis, delta, count, out)
+    crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out)
     return out
