@@ -3,7 +3,9 @@
 import math
 from pathlib import Path
 
-from sesp import Polyline, SeSP
+import numpy as np
+
+from sesp import Polyline, SeSP, blocked_orientations
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -52,3 +54,15 @@ def write_sweep(folder: Path, text: str, name: str = "s.toml") -> Path:
 def point_files(folder: Path) -> list:
     """The point files of a sweep output folder (16-hex-digit names)."""
     return sorted(p for p in folder.glob("*.nc") if len(p.stem) == 16)
+
+
+def interval_disagreements(particle, other, ds, segments) -> int:
+    """States of the direct scan ``ds`` whose allowed flag disagrees with the exact blocked φ intervals."""
+    disagree = 0
+    phi = ds.phi.values[:, None]
+    for iy, y in enumerate(ds.y.values):
+        for ix, x in enumerate(ds.x.values):
+            spans = blocked_orientations(particle, x, y, other=other, segments=segments)
+            blocked = ((spans[:, 0] <= phi + 1e-12) & (phi <= spans[:, 1] + 1e-12)).any(axis=1)
+            disagree += int(np.count_nonzero(blocked == ds.allowed.values[:, iy, ix]))
+    return disagree

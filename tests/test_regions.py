@@ -5,11 +5,11 @@ import pytest
 import shapely
 import xarray as xr
 
-from sesp import Grid, Polyline, SeSP, allowed_orientations, blocked_orientations, scan
+from sesp import Grid, Polyline, SeSP, allowed_orientations, scan
 from sesp.regions import CLASSES, classify, position_summary, summarize
 
 import naive
-from cases import ZED
+from cases import ZED, interval_disagreements
 
 
 def _brute_force_classes(curve1, curve2, ds):
@@ -134,14 +134,7 @@ def test_blocked_orientations_contain_exactly_the_overlapping_sampled_states(oth
     """Every state of a direct scan is blocked exactly when its φ lies in a blocked interval."""
     particle = SeSP(n=4, opening=math.radians(100))
     ds = scan(particle, Grid(12, nphi=24), other=other, segments=24, engine="direct")
-    disagree = 0
-    for iy, y in enumerate(ds.y.values):
-        for ix, x in enumerate(ds.x.values):
-            spans = blocked_orientations(particle, x, y, other=other, segments=24)
-            phi = ds.phi.values[:, None]
-            blocked = ((spans[:, 0] <= phi + 1e-12) & (phi <= spans[:, 1] + 1e-12)).any(axis=1)
-            disagree += int(np.count_nonzero(blocked == ds.allowed.values[:, iy, ix]))
-    assert disagree == 0
+    assert interval_disagreements(particle, other, ds, 24) == 0
 
 
 @pytest.mark.parametrize("offset", [0.05, 0.2, 0.37, 0.49])

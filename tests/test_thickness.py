@@ -13,14 +13,13 @@ from sesp import (
     Polyline,
     SeSP,
     allowed_orientations,
-    blocked_orientations,
     monte_carlo,
     scan,
     shifted_excluded_area,
 )
 from sesp.measures import excluded_perimeter
 
-from cases import ZED
+from cases import ZED, interval_disagreements
 
 L, D = 2.0, 0.1
 
@@ -109,14 +108,7 @@ def test_thick_entanglement_is_each_curve_within_contact_of_the_other_hull():
 def test_thick_orientation_intervals_match_a_direct_scan():
     particle, other = SeSP(n=4, opening=math.radians(100), thickness=0.06), SeSP(n=2, opening=2.0, thickness=0.1)
     ds = scan(particle, Grid(12, nphi=48), other=other, segments=16, engine="direct")
-    disagree = 0
-    for iy, y in enumerate(ds.y.values):
-        for ix, x in enumerate(ds.x.values):
-            spans = blocked_orientations(particle, x, y, other=other, segments=16)
-            phi = ds.phi.values[:, None]
-            blocked = ((spans[:, 0] <= phi + 1e-12) & (phi <= spans[:, 1] + 1e-12)).any(axis=1)
-            disagree += int(np.count_nonzero(blocked == ds.allowed.values[:, iy, ix]))
-    assert disagree == 0
+    assert interval_disagreements(particle, other, ds, 16) == 0
     # thicker particles exclude more orientations at every position
     xs, ys = np.meshgrid(ds.x.values, ds.y.values)
     thin = allowed_orientations(SeSP(n=4, opening=math.radians(100)), xs, ys, other=SeSP(n=2, opening=2.0),

@@ -36,3 +36,15 @@ def index_range(lo, hi, origin, inv_step, size):
     i0 = int(math.ceil((lo - origin) * inv_step))
     i1 = int(math.floor((hi - origin) * inv_step))
     return max(i0, 0), min(i1, size - 1)
+
+
+@njit(**JIT)
+def point_segment_distance2(x, y, ax, ay, bx, by):
+    """Squared distance from (x, y) to the segment a–b."""
+    ex = bx - ax
+    ey = by - ay
+    length2 = ex * ex + ey * ey
+    lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / length2))
+    dx = ax + lam * ex - x
+    dy = ay + lam * ey - y
+    return dx * dx + dy * dy

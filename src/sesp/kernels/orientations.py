@@ -5,7 +5,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT
+from .common import JIT, point_segment_distance2
 
 TWO_PI = 2.0 * math.pi
 
@@ -37,13 +37,12 @@ def _pair_signs(phi, k1, k2, k3, k4):
 
 
 @njit(**JIT)
-def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
-    """Append the φ intervals where fixed segment pq meets t + R_φ[uv]; return the new count.
+def _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty):
+    """(k1, k2, k3, k4): the orientation values of the four end points against the other segment's line.
 
-    Segments meet exactly when each one's end points lie on opposite sides of
-    (or on) the other's line. Every such orientation value is a sinusoid
-    c + α cos φ + β sin φ in φ, so between consecutive roots of the four the
-    answer is constant: one midpoint test per piece.
+    Each is (c, α, β) of the sinusoid c + α cos φ + β sin φ: k1, k2 for u, v
+    against p–q (|d| × signed distance), k3, k4 for p, q against the moving
+    segment (|e| × signed distance).
     """
     dx = qx - px
     dy = qy - py
@@ -57,36 +56,49 @@ def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
     k3 = (offset, -(gx * ey - gy * ex), -(gx * ex + gy * ey))
     gx, gy = qx - tx, qy - ty
     k4 = (offset, -(gx * ey - gy * ex), -(gx * ex + gy * ey))
+    return k1, k2, k3, k4
+
+
+@njit(**JIT)
+def _cuts(roots, m):
+    """The m roots with 0 and 2π added, sorted: the ends of the pieces on which a pair's answer is constant."""
+    roots[m] = 0.0
+    roots[m + 1] = TWO_PI
+    return np.sort(roots[: m + 2])
+
+
+@njit(**JIT)
+def _append_piece(lo, hi, starts, ends, n):
+    """Append the blocked piece [lo, hi], merging it with the previous one when they touch; return the count."""
+    if n > 0 and ends[n - 1] == lo:  # continues the piece before
+        ends[n - 1] = hi
+        return n
+    starts[n] = lo
+    ends[n] = hi
+    return n + 1
+
+
+@njit(**JIT)
+def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
+    """Append the φ intervals where fixed segment pq meets t + R_φ[uv]; return the new count.
+
+    Segments meet exactly when each one's end points lie on opposite sides of
+    (or on) the other's line. Every such orientation value is a sinusoid
+    c + α cos φ + β sin φ in φ, so between consecutive roots of the four the
+    answer is constant: one midpoint test per piece.
+    """
+    k1, k2, k3, k4 = _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty)
     roots = np.empty(10)
     m = 0
     for k in (k1, k2, k3, k4):
         m = _sinusoid_roots(k[0], k[1], k[2], roots, m)
-    roots[m] = 0.0
-    roots[m + 1] = TWO_PI
-    cuts = np.sort(roots[: m + 2])
+    cuts = _cuts(roots, m)
     for i in range(m + 1):
         lo = cuts[i]
         hi = cuts[i + 1]
         if hi > lo and _pair_signs(0.5 * (lo + hi), k1, k2, k3, k4):
-            if n > 0 and ends[n - 1] == lo:  # continues the piece before
-                ends[n - 1] = hi
-            else:
-                starts[n] = lo
-                ends[n] = hi
-                n += 1
+            n = _append_piece(lo, hi, starts, ends, n)
     return n
-
-
-@njit(**JIT)
-def _point_segment_distance2(x, y, ax, ay, bx, by):
-    """Squared distance from (x, y) to the segment a–b."""
-    ex = bx - ax
-    ey = by - ay
-    length2 = ex * ex + ey * ey
-    lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - ax) * ex + (y - ay) * ey) / length2))
-    dx = ax + lam * ex - x
-    dy = ay + lam * ey - y
-    return dx * dx + dy * dy
 
 
 @njit(**JIT)
@@ -96,10 +108,10 @@ def _within(px, py, qx, qy, ux, uy, vx, vy, crossing, contact):
         return True
     r2 = contact * contact
     return (
-        _point_segment_distance2(px, py, ux, uy, vx, vy) <= r2
-        or _point_segment_distance2(qx, qy, ux, uy, vx, vy) <= r2
-        or _point_segment_distance2(ux, uy, px, py, qx, qy) <= r2
-        or _point_segment_distance2(vx, vy, px, py, qx, qy) <= r2
+        point_segment_distance2(px, py, ux, uy, vx, vy) <= r2
+        or point_segment_distance2(qx, qy, ux, uy, vx, vy) <= r2
+        or point_segment_distance2(ux, uy, px, py, qx, qy) <= r2
+        or point_segment_distance2(vx, vy, px, py, qx, qy) <= r2
     )
 
 
@@ -116,20 +128,15 @@ def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, 
     between consecutive roots of those 24 sinusoids the answer is constant:
     one midpoint test per piece.
     """
+    k1, k2, k3, k4 = _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty)
     dx = qx - px
     dy = qy - py
     ex = vx - ux
     ey = vy - uy
     dlen = math.hypot(dx, dy)
     elen = math.hypot(ex, ey)
-    base = dx * (ty - py) - dy * (tx - px)
-    k1 = (base, dx * uy - dy * ux, dx * ux + dy * uy)
-    k2 = (base, dx * vy - dy * vx, dx * vx + dy * vy)
-    offset = -(ex * uy - ey * ux)
     gpx, gpy = px - tx, py - ty
     gqx, gqy = qx - tx, qy - ty
-    k3 = (offset, -(gpx * ey - gpy * ex), -(gpx * ex + gpy * ey))
-    k4 = (offset, -(gqx * ey - gqy * ex), -(gqx * ex + gqy * ey))
     roots = np.empty(50)
     m = 0
     for k in (k1, k2):
@@ -158,9 +165,7 @@ def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, 
                 roots,
                 m,
             )
-    roots[m] = 0.0
-    roots[m + 1] = TWO_PI
-    cuts = np.sort(roots[: m + 2])
+    cuts = _cuts(roots, m)
     for i in range(m + 1):
         lo = cuts[i]
         hi = cuts[i + 1]
@@ -173,23 +178,14 @@ def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, 
         ax, ay = tx + c * ux - s * uy, ty + s * ux + c * uy
         bx, by = tx + c * vx - s * vy, ty + s * vx + c * vy
         if _within(px, py, qx, qy, ax, ay, bx, by, crossing, contact):
-            if n > 0 and ends[n - 1] == lo:
-                ends[n - 1] = hi
-            else:
-                starts[n] = lo
-                ends[n] = hi
-                n += 1
+            n = _append_piece(lo, hi, starts, ends, n)
     return n
 
 
 @njit(**JIT)
 def _segment_distances(vx0, vy0, vx1, vy1, x, y):
     """(nearest, farthest) distance from (x, y) to the segment."""
-    ex = vx1 - vx0
-    ey = vy1 - vy0
-    length2 = ex * ex + ey * ey
-    lam = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - vx0) * ex + (y - vy0) * ey) / length2))
-    near = math.hypot(vx0 + lam * ex - x, vy0 + lam * ey - y)
+    near = math.sqrt(point_segment_distance2(x, y, vx0, vy0, vx1, vy1))
     far = max(math.hypot(vx0 - x, vy0 - y), math.hypot(vx1 - x, vy1 - y))
     return near, far
 

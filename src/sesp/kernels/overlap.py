@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, index_range, rotate, segment_lengths
+from .common import JIT, index_range, point_segment_distance2, rotate, segment_lengths
 
 COUNT_MAX = 65535  # crossing counts saturate at the uint16 maximum
 
@@ -69,24 +69,14 @@ def pair_setup(dx, dy, fx, fy, dlen, flen, delta, contact):
 
 
 @njit(**JIT)
-def _segment_distance2(wx, wy, ax, ay, ex, ey):
-    """Squared distance from w to the segment from a along e."""
-    length2 = ex * ex + ey * ey
-    s = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((wx - ax) * ex + (wy - ay) * ey) / length2))
-    px = ax + s * ex - wx
-    py = ay + s * ey - wy
-    return px * px + py * py
-
-
-@njit(**JIT)
 def _near_edges(wx, wy, dx, dy, fx, fy, reach):
     """Whether w lies within ``reach`` of an edge of {λ d + μ f : λ, μ ∈ [0, 1]}."""
     r2 = reach * reach
     return (
-        _segment_distance2(wx, wy, 0.0, 0.0, dx, dy) <= r2
-        or _segment_distance2(wx, wy, fx, fy, dx, dy) <= r2
-        or _segment_distance2(wx, wy, 0.0, 0.0, fx, fy) <= r2
-        or _segment_distance2(wx, wy, dx, dy, fx, fy) <= r2
+        point_segment_distance2(wx, wy, 0.0, 0.0, dx, dy) <= r2
+        or point_segment_distance2(wx, wy, fx, fy, fx + dx, fy + dy) <= r2
+        or point_segment_distance2(wx, wy, 0.0, 0.0, fx, fy) <= r2
+        or point_segment_distance2(wx, wy, dx, dy, dx + fx, dy + fy) <= r2
     )
 
 
