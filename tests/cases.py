@@ -66,3 +66,23 @@ def interval_disagreements(particle, other, ds, segments) -> int:
             blocked = ((spans[:, 0] <= phi + 1e-12) & (phi <= spans[:, 1] + 1e-12)).any(axis=1)
             disagree += int(np.count_nonzero(blocked == ds.allowed.values[:, iy, ix]))
     return disagree
+
+
+def content_digest(path) -> str:
+    """SHA-256 of a netCDF file's contents: every variable's name, dims, dtype, bytes and attributes, and the
+    global attributes, leaving out those that record when and how the file was made (``history``, ...)."""
+    import hashlib
+
+    import xarray as xr
+
+    from sesp.dataset import PROVENANCE
+
+    digest = hashlib.sha256()
+    with xr.open_dataset(path) as ds:
+        for name in sorted(ds.variables):
+            var = ds.variables[name]
+            digest.update(f"{name}{var.dims}{var.dtype}{sorted(var.attrs.items())!r}".encode())
+            digest.update(np.ascontiguousarray(var.values).tobytes())
+        attrs = {k: v for k, v in ds.attrs.items() if k not in PROVENANCE}
+        digest.update(repr(sorted((k, repr(v)) for k, v in attrs.items())).encode())
+    return digest.hexdigest()

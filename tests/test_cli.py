@@ -95,3 +95,43 @@ def test_topology_report_with_the_axis_count(capsys):
     assert "2 -> 0 at Psi" in axis  # island and body end together, at π
     assert main(["topology", "--axis", "4"]) == 2
     assert "--axis" in capsys.readouterr().err
+
+
+def test_global_options_are_accepted_after_the_command(tmp_path, capsys):
+    out = tmp_path / "o.nc"
+    assert main(["scan", "--nx", "8", "--nphi", "2", "--segments", "8", "-o", str(out), "-q"]) == 0
+    assert capsys.readouterr().out == ""  # quiet
+    with pytest.raises(FileNotFoundError):  # --debug after the command: the traceback is shown
+        main(["info", str(tmp_path / "missing.nc"), "--debug"])
+
+
+def test_every_option_has_help_text():
+    import argparse
+
+    from sesp.cli import build_parser
+
+    parser = build_parser()
+    (subcommands,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    for name, command in [("sesp", parser), *subcommands.choices.items()]:
+        for action in command._actions:
+            if action.dest == "help" or isinstance(action, argparse._SubParsersAction):
+                continue
+            assert action.help, f"{name} {action.option_strings or action.dest} has no help text"
+
+
+@pytest.mark.parametrize(
+    "value, word", [("nan", "--tolerance"), ("1e-300", "--tolerance"), ("inf", "--tolerance"), ("100", "--tolerance")]
+)
+def test_topology_tolerance_is_in_degrees_and_checked(value, word, capsys):
+    assert main(["topology", "--tolerance", value, "--nx", "8", "--nphi", "4"]) == 2
+    err = capsys.readouterr().err
+    assert word in err and "degrees" in err and "Traceback" not in err
+
+
+def test_plot_misuse_is_one_line(tmp_path, capsys):
+    scan_file = tmp_path / "s.nc"
+    main(["-q", "scan", "--nx", "8", "--nphi", "2", "--segments", "8", "-o", str(scan_file)])
+    capsys.readouterr()
+    assert main(["plot", "curve", str(scan_file), "-o", str(tmp_path / "c.png")]) == 2
+    err = capsys.readouterr().err
+    assert "needs a collected sweep" in err and str(scan_file) in err and err.count("\n") == 1

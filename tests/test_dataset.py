@@ -97,3 +97,15 @@ def test_info_normalises_by_the_closed_shape_not_by_4pi(files, capsys):
     assert f"closed {reference:.6g} b^2" in out
     assert reference != pytest.approx(4 * math.pi, rel=1e-3)
     assert ds.attrs["sesp_format"] == "sesp.scan"
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_every_variable_and_coordinate_is_labelled_and_the_file_is_cf(files, kind):
+    ds = load(files[kind])
+    for key in ("Conventions", "title", "history", "source", "date_created"):
+        assert ds.attrs.get(key), f"{kind}: global attribute {key} missing"
+    assert "sesp" in ds.attrs["history"] and ds.attrs["Conventions"].startswith("CF-")
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("long_name"), f"{kind}: {name} has no long_name"
+        if "flag_values" not in var.attrs:  # CF flag variables carry flag meanings instead of units
+            assert "units" in var.attrs, f"{kind}: {name} has no units"

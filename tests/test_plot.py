@@ -106,6 +106,12 @@ def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
     ]
     for name in written:
         assert_not_blank(tmp_path / "figs" / name)
+    out = capsys.readouterr().out
+    assert "skipped fig2_maps_asp.png: no " in out and "sesp sweep sweeps/maps_asp.toml" in out
+    assert main(["figures", str(results), "-o", str(tmp_path / "pdf"), "--format", "pdf"]) == 0
+    pdfs = sorted(p.name for p in (tmp_path / "pdf").iterdir())
+    assert pdfs == [name.replace(".png", ".pdf") for name in written]
+    assert (tmp_path / "pdf" / pdfs[0]).read_bytes()[:4] == b"%PDF"
 
 
 def test_onsager_plot_draws_b2_and_the_leading_instability(sweep_ds, tmp_path):

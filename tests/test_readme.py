@@ -46,3 +46,34 @@ def test_every_python_block_runs(quick_results):
     import matplotlib.pyplot as plt
 
     plt.close("all")
+
+
+def shell_lines(text: str) -> list:
+    """The command lines of every ```bash block, comments dropped."""
+    lines = []
+    for block in re.findall(r"^```bash\n(.*?)^```", text, flags=re.S | re.M):
+        for line in block.splitlines():
+            command = line.split(" #")[0].strip()
+            if command:
+                lines.append(command)
+    return lines
+
+
+def test_every_readme_command_line_is_accepted_by_the_cli_or_names_a_real_script():
+    import shlex
+
+    from sesp.cli import build_parser
+
+    lines = shell_lines(README.read_text())
+    sesp_lines = [line for line in lines if line.startswith("sesp ")]
+    assert len(sesp_lines) >= 8
+    for line in sesp_lines:
+        try:
+            build_parser().parse_args(shlex.split(line)[1:])
+        except SystemExit:
+            pytest.fail(f"README line not accepted by the CLI: {line}")
+    for line in lines:
+        words = shlex.split(line)
+        for word in words:
+            if word.startswith(("benchmarks/", "sweeps/")) and word.endswith((".py", ".toml")):
+                assert (ROOT / word).is_file(), f"README names a missing file: {word}"

@@ -1,6 +1,5 @@
 """Faults survived and inputs refused: kills, disk full, read-only folders, concurrent runners, files."""
 
-import hashlib
 import os
 import random
 import resource
@@ -16,7 +15,7 @@ from sesp import Grid, SeSP, SespFileError, load, save, scan
 from sesp.cli import main
 from sesp.sweep import run
 
-from cases import SMALL
+from cases import SMALL, content_digest
 from cases import point_files as _point_files
 
 # Kills in the SIGKILL test: 20 by default (CI), 100 with SESP_FULL_FAULTS=1.
@@ -30,8 +29,9 @@ FAULT_SWEEP = (
 )
 
 
-def _digest(path):
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+def _digest(path) -> str:
+    """The file's results, bit for bit (provenance attributes aside)."""
+    return content_digest(path)
 
 
 def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):

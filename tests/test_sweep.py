@@ -1,4 +1,3 @@
-import hashlib
 import math
 import os
 import signal
@@ -13,11 +12,12 @@ import xarray as xr
 
 from sesp.sweep import SweepError, collect, load_spec, run
 
-from cases import ROOT, SMALL, point_files, write_sweep
+from cases import ROOT, SMALL, content_digest, point_files, write_sweep
 
 
-def _digest(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+def _digest(path) -> str:
+    """The file's results, bit for bit (provenance attributes aside)."""
+    return content_digest(path)
 
 
 @pytest.mark.parametrize("sweep_file", sorted((ROOT / "sweeps").glob("*.toml")), ids=lambda p: p.name)
@@ -54,7 +54,14 @@ def test_radians_and_degrees_name_the_same_points(tmp_path):
         (("[output]", "[plots]\nx = 1\n[output]"), ["unknown section [plots]"]),
         (('angles = "degrees"\n', ""), ["missing key 'angles'"]),
         (("degrees", "gradians"), ["angles"]),
-        (("stop = 120", "stop = 400"), ["opening"]),
+        (("stop = 120", "stop = 400"), ["opening", "360 degrees", "[0, 360) degrees"]),
+        (("stop = 120", "stop = inf"), ["finite"]),
+        (("step = 30", "step = 1e-9"), ["values", "limit"]),
+        (("step = 30", "num = 1000000000"), ["values", "limit"]),
+        (
+            ("n = [2, 8]", "n = { start = 1, stop = 1000, num = 1000 }\nm = { start = 1, stop = 1000, num = 1000 }"),
+            ["parameter points", "limit"],
+        ),
         (("n = [2, 8]", "n = [2, -8]"), ["n must be"]),
         (("n = [2, 8]", "n = []"), ["empty"]),
         (("n = [2, 8]", 'n = ["two"]'), ["[particle] n", "expected numbers"]),
@@ -194,3 +201,69 @@ def test_vertices_and_shape_keys_are_exclusive(tmp_path):
     )
     with pytest.raises(SweepError, match="vertices"):
         load_spec(write_sweep(tmp_path, text.format(out=tmp_path / "out")))
+
+
+def test_output_folder_is_relative_to_the_sweep_file(tmp_path, monkeypatch):
+    (tmp_path / "sub").mkdir()
+    monkeypatch.chdir(tmp_path)
+    spec = load_spec(write_sweep(tmp_path / "sub", SMALL.format(out="results/x")))
+    assert spec.output == tmp_path / "sub" / "results" / "x"
+    assert load_spec(tmp_path / "sub" / "s.toml", output="elsewhere").output == Path("elsewhere")
+    bad = SMALL.format(out="o").replace('output = "o"', 'output = ["a", "b"]')
+    with pytest.raises(SweepError, match="output must be a folder name"):
+        load_spec(write_sweep(tmp_path, bad, "bad.toml"))
+    with pytest.raises(SweepError, match="name must be"):
+        load_spec(
+            write_sweep(tmp_path, SMALL.format(out="o").replace('name = "small"', f'name = "{"x" * 300}"'), "n.toml")
+        )
+
+
+def _children(pid: int) -> set:
+    """Process ids of pid's children (Linux /proc)."""
+    found = set()
+    for task in Path(f"/proc/{pid}/task").glob("*"):
+        try:
+            found |= {int(c) for c in (task / "children").read_text().split()}
+        except OSError:
+            pass
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().split(")")[-1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.slow
+def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_path):
+    """SIGINT to the runner alone (not its group), --workers 2: it stops its workers, says how to resume."""
+    text = KILL_SWEEP.replace("nx = 64", "nx = 192").replace("nphi = 64", "nphi = 128")
+    path = write_sweep(tmp_path, text.format(out=tmp_path / "out"))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "2"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    children, deadline = set(), time.monotonic() + 120
+    while not point_files(tmp_path / "out") and time.monotonic() < deadline and proc.poll() is None:
+        children |= _children(proc.pid)
+        time.sleep(0.05)
+    children |= _children(proc.pid)
+    assert children and proc.poll() is None, "the sweep should still be running with its workers"
+    start = time.monotonic()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    assert time.monotonic() - start < 10
+    assert proc.returncode == 130 and "Run the same command again to resume" in err and "Traceback" not in err
+    time.sleep(0.5)
+    assert not [pid for pid in children if _alive(pid) and "spawn" in Path(f"/proc/{pid}/cmdline").read_text()]
+    done = point_files(tmp_path / "out")
+    assert 1 <= len(done) < 20
+    assert not list((tmp_path / "out").glob(".*.tmp"))
+    run(path, workers=1, progress=False)  # resumes
+    assert len(point_files(tmp_path / "out")) == 20

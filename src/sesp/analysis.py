@@ -147,7 +147,9 @@ def _add_components(ds):
     comps = excluded_components(ds)
     areas = np.full(COMPONENTS_KEPT, np.nan)
     areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
-    ds["excluded_components"] = xr.DataArray(comps.count, attrs={"long_name": "robust count of excluded components"})
+    ds["excluded_components"] = xr.DataArray(
+        comps.count, attrs={"long_name": "robust count of excluded components", "units": "1"}
+    )
     ds["component_area"] = xr.DataArray(
         areas, dims="component", attrs={"units": "b^2", "long_name": "areas of the excluded components, largest first"}
     )

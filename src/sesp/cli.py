@@ -46,7 +46,12 @@ def _add_scan(sub):
     p.add_argument("--nx", type=int, default=256, help="cells along x (default 256)")
     p.add_argument("--ny", type=int, default=None, help="cells along y (default: nx)")
     p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
-    p.add_argument("--engine", choices=("raster", "direct"), default="raster")
+    p.add_argument(
+        "--engine",
+        choices=("raster", "direct"),
+        default="raster",
+        help="raster: Minkowski parallelograms (fast, default); direct: every segment pair (reference)",
+    )
     p.add_argument("--crossings", action="store_true", help="also store crossing counts")
     p.add_argument("-o", "--output", required=True, type=Path, help="netCDF file to write")
     p.set_defaults(func=_cmd_scan)
@@ -78,7 +83,7 @@ def _cmd_scan(args) -> int:
 
 def _add_info(sub):
     p = sub.add_parser("info", help="print the parameters and excluded area of a saved scan")
-    p.add_argument("file", type=Path)
+    p.add_argument("file", type=Path, help="any file sesp wrote: scan, summary, sweep point or collected sweep")
     p.set_defaults(func=_cmd_info)
 
 
@@ -102,10 +107,21 @@ def _add_topology(sub):
         help="Ψ range in degrees (default 0 360)",
     )
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
-    p.add_argument("--quantity", choices=("excluded", "allowed", "entangled"), default="excluded")
+    p.add_argument(
+        "--quantity",
+        choices=("excluded", "allowed", "entangled"),
+        default="excluded",
+        help="excluded: excluded positions in the plane (default); allowed / entangled: those states "
+        "in (x, y, φ), φ periodic",
+    )
     p.add_argument("--nx", type=int, default=256, help="cells along x and y (default 256)")
     p.add_argument("--nphi", type=int, default=1024, help="orientations (default 1024)")
-    p.add_argument("--tolerance", type=float, default=0.02, help="bracket half-width, radians (default 0.02)")
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=TOLERANCE_DEG,
+        help=f"bracket half-width, degrees (default {TOLERANCE_DEG:.3g}, i.e. 0.02 rad)",
+    )
     p.add_argument("--refine", type=int, default=2, help="second resolution = this times the first (1: none)")
     p.add_argument(
         "--axis",
@@ -118,6 +134,13 @@ def _add_topology(sub):
     p.set_defaults(func=_cmd_topology)
 
 
+def _positive_degrees(name: str, value: float, low: float, high: float) -> float:
+    """A finite angle in degrees in [low, high], as radians."""
+    if not (math.isfinite(value) and low <= value <= high):
+        raise ValueError(f"{name} must be a number of degrees in [{low:g}, {high:g}], got {value}")
+    return math.radians(value)
+
+
 def _cmd_topology(args) -> int:
     from .grid import Grid
     from .report import format_result
@@ -126,6 +149,8 @@ def _cmd_topology(args) -> int:
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
         raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
+    tolerance = _positive_degrees("--tolerance", args.tolerance, 1e-6, 90.0)
+    step = _positive_degrees("--step", args.step, 1e-4, 360.0)
     if args.axis is not None and args.axis < 16:
         raise ValueError(f"--axis must be an integer >= 16 (axis nodes), got {args.axis}")
     family = _shape_from_args(args, 0.0)
@@ -136,8 +161,8 @@ def _cmd_topology(args) -> int:
         (math.radians(lo), math.radians(hi)),
         grid=Grid(args.nx, nphi=args.nphi),
         segments=args.segments,
-        step=math.radians(args.step),
-        tolerance=args.tolerance,
+        step=step,
+        tolerance=tolerance,
         refine_factor=args.refine,
         progress=not args.quiet,
     )
@@ -148,13 +173,16 @@ def _cmd_topology(args) -> int:
             (math.radians(lo), math.radians(hi)),
             nodes=args.axis,
             segments=args.segments,
-            step=math.radians(args.step),
-            tolerance=args.tolerance,
+            step=step,
+            tolerance=tolerance,
             progress=not args.quiet,
         )
         print()
         print(format_result(axis))
     return 0
+
+
+TOLERANCE_DEG = math.degrees(0.02)
 
 
 def _add_sweep(sub):
@@ -169,18 +197,29 @@ def _add_sweep(sub):
 def _cmd_sweep(args) -> int:
     from .sweep import load_spec, run
 
-    load_spec(args.file, output=args.output)  # every error before any work
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    spec = load_spec(args.file, output=args.output)
     _announce_compile()
-    target = run(args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet)
+    try:
+        target = run(
+            args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet
+        )
+    except KeyboardInterrupt:
+        done = len(list(spec.output.glob("????????????????.nc")))
+        print(
+            f"sesp: interrupted; {done} of {len(spec.points())} points are saved in {spec.output}."
+            " Run the same command again to resume.",
+            file=sys.stderr,
+        )
+        return 130
     print(f"wrote {target}")
     return 0
 
 
 def _add_collect(sub):
     p = sub.add_parser("collect", help="combine a sweep folder's point files into one dataset")
-    p.add_argument("folder", type=Path)
+    p.add_argument("folder", type=Path, help="a sweep's output folder (holds sweep.json and the point files)")
     p.add_argument("-o", "--output", type=Path, required=True, help="netCDF file to write")
     p.set_defaults(func=_cmd_collect)
 
@@ -194,16 +233,55 @@ def _cmd_collect(args) -> int:
     return 0
 
 
-PLOT_KINDS = ("gallery", "map", "maps", "curve", "panels", "topology", "onsager", "thickness")
+PLOT_KINDS = {
+    "gallery": "paper Fig. 1c: the shapes over n and Ψ (no FILE)",
+    "map": "allowed-configuration map of one scan, summary or sweep point",
+    "maps": "one map per point of a collected map sweep (paper Figs. 2-3)",
+    "curve": "normalised A_ex against Ψ from a collected sweep (paper Fig. 4)",
+    "panels": "normalised A_ex(φ) against Ψ, 3 x 3 panels, from a collected sweep (paper Fig. 5)",
+    "topology": "excluded components and their areas against Ψ, from a collected sweep",
+    "onsager": "B2 and the first Onsager instability against Ψ, from a collected sweep",
+    "thickness": "normalised A_ex against Ψ per thickness, from a collected thickness sweep",
+}
+SINGLE_PAIR = ("sesp.scan", "sesp.summary", "sesp.point")
 
 
 def _add_plot(sub):
+    kinds = "; ".join(f"{k}: {v}" for k, v in PLOT_KINDS.items())
     p = sub.add_parser("plot", help="draw one figure to an image file")
-    p.add_argument("kind", choices=PLOT_KINDS)
+    p.add_argument("kind", choices=tuple(PLOT_KINDS), metavar="KIND", help=f"what to draw. {kinds}")
     p.add_argument("file", type=Path, nargs="?", help="a scan or collected sweep file (not for 'gallery')")
     p.add_argument("-o", "--output", type=Path, required=True, help="image file (png, pdf, svg)")
-    p.add_argument("--style", choices=("raster", "dots"), default="raster", help="map style")
+    p.add_argument(
+        "--style",
+        choices=("raster", "dots"),
+        default="raster",
+        help="map style: raster (hue: mean allowed φ, lightness: fraction allowed) or dots (paper look)",
+    )
+    p.add_argument("--dpi", type=float, default=150.0, help="resolution of raster images (default 150)")
     p.set_defaults(func=_cmd_plot)
+
+
+def _check_plot_input(kind: str, path, ds):
+    """One line naming the file and what the plot kind expects, instead of a traceback."""
+    fmt = ds.attrs.get("sesp_format")
+    if kind == "map" and fmt not in SINGLE_PAIR:
+        raise ValueError(
+            f"{path}: plot map needs a scan, summary or sweep point file, got a {fmt} file"
+            " (for a collected sweep use 'maps')"
+        )
+    if kind != "map" and fmt != "sesp.sweep":
+        raise ValueError(f"{path}: plot {kind} needs a collected sweep file, got a {fmt} file")
+    needs = {
+        "maps": "opening",
+        "curve": "opening",
+        "panels": "n",
+        "topology": "opening",
+        "onsager": "opening",
+        "thickness": "thickness",
+    }
+    if kind in needs and needs[kind] not in ds.dims:
+        raise ValueError(f"{path}: plot {kind} needs a sweep over {needs[kind]!r}; this one sweeps {list(ds.dims)}")
 
 
 def _cmd_plot(args) -> int:
@@ -221,13 +299,16 @@ def _cmd_plot(args) -> int:
         if args.file is None:
             raise ValueError(f"plot {args.kind} needs a FILE")
         ds = load(args.file)
+        _check_plot_input(args.kind, args.file, ds)
         if args.kind == "map":
             fig, ax = plt.subplots(figsize=(6, 5), layout="constrained")
             plot.allowed_map(ds, style=args.style, ax=ax)
         else:
             kind = {"maps": "maps" if args.style == "dots" else "maps_raster"}.get(args.kind, args.kind)
             fig = plot.figure(kind, ds)
-    fig.savefig(args.output, dpi=110)
+    if args.dpi <= 0 or not math.isfinite(args.dpi):
+        raise ValueError(f"--dpi must be a number > 0, got {args.dpi}")
+    fig.savefig(args.output, dpi=args.dpi)
     plt.close(fig)
     print(f"wrote {args.output}")
     return 0
@@ -237,6 +318,8 @@ def _add_figures(sub):
     p = sub.add_parser("figures", help="render the paper's figures from the shipped sweeps' results")
     p.add_argument("results", type=Path, help="folder holding one output folder per sweep")
     p.add_argument("-o", "--output", type=Path, required=True, help="folder for the images")
+    p.add_argument("--format", choices=("png", "pdf", "svg"), default="png", help="image format (default png)")
+    p.add_argument("--dpi", type=float, default=150.0, help="resolution of png images (default 150)")
     p.set_defaults(func=_cmd_figures)
 
 
@@ -248,8 +331,10 @@ def _cmd_figures(args) -> int:
 
     if not args.results.is_dir():
         raise FileNotFoundError(f"{args.results}: no such folder")
-    for path in render_figures(args.results, args.output):
-        print(f"wrote {path}")
+    if args.dpi <= 0 or not math.isfinite(args.dpi):
+        raise ValueError(f"--dpi must be a number > 0, got {args.dpi}")
+    for name, outcome in render_figures(args.results, args.output, fmt=args.format, dpi=args.dpi).items():
+        print(f"wrote {outcome}" if isinstance(outcome, Path) else f"skipped {name}: {outcome}")
     return 0
 
 
@@ -257,9 +342,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="sesp", description=__doc__)
     parser.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bars")
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for add in COMMANDS:
         add(sub)
+    for command in sub.choices.values():  # the global options are accepted after the command too
+        command.add_argument(
+            "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks of errors"
+        )
+        command.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS, help="no progress bars")
     return parser
 
 

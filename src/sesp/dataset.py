@@ -25,6 +25,9 @@ Scans, summaries and points carry the attributes of the pair
 from __future__ import annotations
 
 import hashlib
+import shlex
+import sys
+from datetime import UTC, datetime
 
 import numpy as np
 import xarray as xr
@@ -51,6 +54,8 @@ __all__ = [
     "LONG_NAMES",
     "field_sha256",
     "validate",
+    "parameter_attrs",
+    "PROVENANCE",
 ]
 
 FORMAT_VERSION = 1
@@ -90,11 +95,55 @@ def format_of(ds) -> str | None:
     return ds.attrs.get("sesp_format")
 
 
+TITLES = {
+    "sesp.scan": "allowed states of a pair of superellipse sector particles on an (x, y, phi) grid",
+    "sesp.summary": "excluded area and position classes of a pair of superellipse sector particles",
+    "sesp.point": "one parameter point of a sesp sweep",
+    "sesp.sweep": "collected sesp sweep over particle parameters",
+    "sesp.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
+}
+# Attributes that record when and how a file was made; they differ between otherwise identical results.
+PROVENANCE = ("history", "date_created")
+
+
 def base_attrs(kind: str) -> dict:
-    """Format, format version and sesp version: the first attributes of every sesp dataset."""
+    """The first attributes of every sesp dataset: format and version, and the CF global attributes.
+
+    ``history`` records the time, the sesp version and the command line of
+    the process that made the dataset; ``date_created`` the time (UTC, ISO 8601).
+    """
     if kind not in FORMATS:
         raise ValueError(f"kind must be one of {FORMATS}, got {kind!r}")
-    return {"sesp_format": kind, "sesp_format_version": FORMAT_VERSION, "sesp_version": version.__version__}
+    now = datetime.now(UTC).replace(microsecond=0).isoformat()
+    return {
+        "sesp_format": kind,
+        "sesp_format_version": FORMAT_VERSION,
+        "sesp_version": version.__version__,
+        "Conventions": "CF-1.10",
+        "title": TITLES[kind],
+        "source": f"sesp {version.__version__}",
+        "history": f"{now} sesp {version.__version__}: {shlex.join(sys.argv) or 'python'}",
+        "date_created": now,
+    }
+
+
+# Labels of the sweep parameters as coordinates: name -> (long_name, units).
+PARAMETER_ATTRS = {
+    "n": ("degree of the superellipse along x", "1"),
+    "m": ("degree of the superellipse along y", "1"),
+    "aspect": ("aspect ratio a/b", "1"),
+    "opening": ("opening Psi", "rad"),
+    "opening_degrees": ("opening Psi", "degree"),
+    "thickness": ("thickness D", "b"),
+    "segments": ("polyline segments N", "1"),
+}
+
+
+def parameter_attrs(name: str) -> dict:
+    """``long_name`` and ``units`` of a sweep parameter coordinate (``other_`` names: particle 2's)."""
+    base = name.removeprefix("other_")
+    long_name, units = PARAMETER_ATTRS.get(base, (base, "1"))
+    return {"long_name": long_name if base == name else f"{long_name} of particle 2", "units": units}
 
 
 # --- particles and pairs ---------------------------------------------------------------

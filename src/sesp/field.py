@@ -278,12 +278,16 @@ def monte_carlo(
     area = {"units": "b^2"}
     return xr.Dataset(
         {
-            "x": ("sample", x, {"units": "b"}),
-            "y": ("sample", y, {"units": "b"}),
-            "phi": ("sample", phi, {"units": "rad"}),
-            "overlap": ("sample", overlap_),
+            "x": ("sample", x, {"units": "b", "long_name": "x of particle 2's centre"}),
+            "y": ("sample", y, {"units": "b", "long_name": "y of particle 2's centre"}),
+            "phi": ("sample", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
+            "overlap": ("sample", overlap_, {"units": "1", "long_name": "the particles overlap"}),
             "excluded_area": ((), p * side**2, {**area, "long_name": "excluded area A_ex"}),
-            "excluded_area_error": ((), side**2 * math.sqrt(p * (1 - p) / samples), area),
+            "excluded_area_error": (
+                (),
+                side**2 * math.sqrt(p * (1 - p) / samples),
+                {**area, "long_name": "standard error of A_ex"},
+            ),
         },
         attrs=attrs,
     )

@@ -195,15 +195,17 @@ def instabilities(excluded_area: xr.DataArray, orders=(1, 2, 3, 4, 6), *, error=
             "a": a,
             "a_error": a_error,
             "density": density.assign_attrs(units="b^-2", long_name="isotropic instability density rho*_k"),
-            "density_error": density_error.assign_attrs(units="b^-2"),
+            "density_error": density_error.assign_attrs(units="b^-2", long_name="error bar of rho*_k"),
             "reduced_density": (density * mean).assign_attrs(units="1", long_name="rho*_k <A_ex>"),
-            "reduced_density_error": (density_error * mean).assign_attrs(units="1"),
+            "reduced_density_error": (density_error * mean).assign_attrs(
+                units="1", long_name="error bar of rho*_k <A_ex>"
+            ),
         }
     )
     filled = density.fillna(np.inf)
     leading = filled.k[filled.argmin("k")].where(np.isfinite(filled.min("k")), 0)
     ds["leading_order"] = leading.drop_vars("k", errors="ignore").assign_attrs(
-        long_name="k of the order that goes unstable first (0: none)"
+        long_name="k of the order that goes unstable first (0: none)", units="1"
     )
     return ds
 
@@ -244,6 +246,7 @@ def onsager_variables(excluded_area: xr.DataArray, order: int = 8, orders=(1, 2,
         return {"second_virial_coefficient": b2}
     spectrum = orientational_spectrum(excluded_area, order)
     unstable = instabilities(excluded_area, orders).rename(k="order")
+    unstable["order"].attrs.update(long_name="order k of the isotropic instability", units="1")
     return {
         "second_virial_coefficient": b2,
         "spectrum_cos": spectrum.a,

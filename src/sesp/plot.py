@@ -411,27 +411,29 @@ def _product(ds, dims):
     return itertools.product(*(ds[d].values for d in dims))
 
 
-def render_figures(results, out) -> list:
+def render_figures(results, out, *, fmt: str = "png", dpi: float = 150) -> dict:
     """Render the paper's figure set from the shipped sweeps' outputs.
 
-    ``results`` holds one folder per sweep (``<results>/<name>/<name>.nc``);
-    figures whose sweep has not been run are skipped. Returns the paths written.
+    ``results`` holds one folder per sweep (``<results>/<name>/<name>.nc``).
+    Returns, for each figure, the path written or the reason it was skipped
+    (its sweep has not been run).
     """
     import matplotlib.pyplot as plt
 
     results, out = Path(results), Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    written = []
+    outcome = {}
     for name, (sweep, kind) in FIGURES.items():
+        target = out / f"{Path(name).stem}.{fmt}"
         source = None if sweep is None else results / sweep / f"{sweep}.nc"
         if source is not None and not source.is_file():
+            outcome[target.name] = f"no {source} (run: sesp sweep sweeps/{sweep}.toml)"
             continue
-        ds = None if source is None else load(source)
-        fig = figure(kind, ds)
-        fig.savefig(out / name, dpi=110)
+        fig = figure(kind, None if source is None else load(source))
+        fig.savefig(target, dpi=dpi)
         plt.close(fig)
-        written.append(out / name)
-    return written
+        outcome[target.name] = target
+    return outcome
 
 
 def figure(kind: str, ds: xr.Dataset | None = None):

@@ -74,7 +74,7 @@ class StoredField(Reduction):
 
     def finish(self):
         dims = ("phi", "y", "x")
-        return {name: (dims, array, {"long_name": LONG_NAMES[name]}) for name, array in self.data.items()}
+        return {name: (dims, array, {"long_name": LONG_NAMES[name], "units": "1"}) for name, array in self.data.items()}
 
     def attrs(self):
         return {"allowed_sha256": field_sha256(self.data["allowed"])}

@@ -12,7 +12,7 @@ Sweep file
 
     [sweep]
     name = "quick"              # optional, default: the file's stem
-    output = "results/quick"    # folder for point files and the collected file
+    output = "results/quick"    # folder for point files and the collected file, relative to this file
     angles = "degrees"          # "degrees" or "radians": unit of every angle here
 
     [particle]                  # a value, a list, or a range table
@@ -53,6 +53,7 @@ import logging
 import math
 import multiprocessing
 import os
+import signal
 import time
 import tomllib
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -64,7 +65,7 @@ import numpy as np
 import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep
-from .dataset import base_attrs
+from .dataset import base_attrs, parameter_attrs
 from .grid import Grid
 from .io import load, save
 from .pair import Pair
@@ -107,17 +108,22 @@ def _values(path, section, key, raw, kind):
         extra = set(raw) - {"start", "stop", "step", "num"}
         if extra or not {"start", "stop"} <= set(raw) or ("step" in raw) == ("num" in raw):
             raise SweepError(f"{where}: a range needs start, stop and one of step or num")
+        numbers = [raw[k] for k in ("start", "stop", "step") if k in raw]
+        if any(isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) for v in numbers):
+            raise SweepError(f"{where}: start, stop and step must be finite numbers, got {raw}")
         start, stop = float(raw["start"]), float(raw["stop"])
         if "step" in raw:
             step = float(raw["step"])
             if step <= 0 or stop < start:
                 raise SweepError(f"{where}: range needs step > 0 and stop >= start, got {raw}")
-            count = int(math.floor((stop - start) / step + 1e-9)) + 1
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            _check_count(where, count)
             values = [start + i * step for i in range(count)]
         else:
             num = raw["num"]
-            if not isinstance(num, int) or num < 1:
+            if isinstance(num, bool) or not isinstance(num, int) or num < 1:
                 raise SweepError(f"{where}: num must be an integer >= 1, got {num!r}")
+            _check_count(where, num)
             values = np.linspace(start, stop, num).tolist()
     elif isinstance(raw, list):
         if not raw:
@@ -145,6 +151,23 @@ def _vertices(path, section, raw) -> tuple:
     except (ValueError, TypeError) as err:
         raise SweepError(f"{where}: {err}") from None
     return tuple(tuple(float(c) for c in v) for v in polyline.vertices)
+
+
+MAX_VALUES = 100_000  # values one key may take
+MAX_POINTS = 1_000_000  # parameter points of one sweep
+
+
+def _check_count(where, count):
+    if count > MAX_VALUES:
+        raise SweepError(f"{where}: the range has {count} values, over the limit of {MAX_VALUES}")
+
+
+def _check_opening_unit(path, section, values, angles):
+    """Openings in the unit the file uses, checked before conversion so the message quotes the user's value."""
+    top, unit = (360.0, "degrees") if angles == "degrees" else (2 * math.pi, "radians")
+    for v in values:
+        if not 0.0 <= v < top:
+            raise SweepError(f"{path}: [{section}] opening = {v:g} {unit} is out of range [0, {top:g}) {unit}")
 
 
 def _check_schema(path, doc):
@@ -279,20 +302,24 @@ def point_hash(payload: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def _resolve_output(path: Path, output: str, base: Path | None) -> Path:
-    out = Path(output)
-    if out.is_absolute() or base is None:
-        return out
-    return base / out
+def _output_folder(path: Path, in_file, override) -> Path:
+    """The sweep's output folder: ``override`` as given (relative to the current folder), else the file's
+    ``output``, relative to the sweep file."""
+    if override is not None:
+        return Path(override)
+    if not isinstance(in_file, str) or not in_file or "\0" in in_file:
+        raise SweepError(f"{path}: [sweep] output must be a folder name (a string), got {in_file!r}")
+    out = Path(in_file)
+    return out if out.is_absolute() else path.parent / out
 
 
-def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> SweepSpec:
+def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     """Read and check a sweep file; every error names the file and the key.
 
     Every particle and grid of the sweep is built here, so a value out of
-    range is reported before any work starts. ``output`` overrides the file's
-    output folder; a relative output is taken from ``base`` (default: the
-    current directory).
+    range is reported before any work starts. The file's ``output`` folder
+    is taken relative to the sweep file; ``output`` overrides it (relative
+    to the current folder).
     """
     path = Path(path)
     try:
@@ -317,6 +344,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> Sw
             for k, v in body.items()
         }
         if "opening" in vals:
+            _check_opening_unit(path, name, vals["opening"], angles)
             vals["opening"] = tuple(to_rad(v) for v in vals["opening"])
         return vals
 
@@ -332,14 +360,18 @@ def load_spec(path, *, output: str | os.PathLike | None = None, base=None) -> Sw
     except ValueError as err:
         raise SweepError(f"{path}: [output] {err}") from None
     spec = SweepSpec(
-        name=str(doc["sweep"].get("name", path.stem)),
-        output=_resolve_output(path, str(output or doc["sweep"]["output"]), base and Path(base)),
+        name=_string(path, "name", doc["sweep"].get("name", path.stem)),
+        output=_output_folder(path, doc["sweep"]["output"], output),
         particle=particle,
         other=other,
         grid=grid,
         keep=keep,
         source=text,
     )
+    _check_name(path, spec.name)
+    total = math.prod(len(v) for part in (spec.particle, spec.other or {}) for v in part.values())
+    if total > MAX_POINTS:
+        raise SweepError(f"{path}: the sweep has {total} parameter points, over the limit of {MAX_POINTS}")
     _check_values(path, spec)
     return spec
 
@@ -352,8 +384,18 @@ def _check_values(path, spec: SweepSpec):
             point.pair()
     except ValueError as err:
         raise SweepError(f"{path}: {err}") from None
-    if not spec.name or "/" in spec.name or spec.name.startswith("."):
-        raise SweepError(f"{path}: [sweep] name must be a plain file name, got {spec.name!r}")
+
+
+def _string(path, key, value) -> str:
+    if not isinstance(value, str):
+        raise SweepError(f"{path}: [sweep] {key} must be a string, got {value!r}")
+    return value
+
+
+def _check_name(path, name):
+    plain = name and len(name) <= 200 and "/" not in name and "\0" not in name and not name.startswith(".")
+    if not plain:
+        raise SweepError(f"{path}: [sweep] name must be a plain file name of at most 200 characters, got {name!r}")
 
 
 def common_half_width(spec: SweepSpec) -> float:
@@ -412,7 +454,7 @@ def _alive(pid: int) -> bool:
     return True
 
 
-def run_point(point: dict, folder: str) -> str | None:
+def run_point(point: SweepPoint, folder: str) -> str | None:
     """Compute one point and write ``folder/<hash>.nc`` atomically; return its path.
 
     Returns None, computing nothing, when another live runner holds the point.
@@ -421,6 +463,8 @@ def run_point(point: dict, folder: str) -> str | None:
     if not _claim(folder, point):
         return None
     try:
+        for stale in Path(folder).glob(f".{point.hash}.nc.*.tmp"):  # left by a killed writer; the lock is ours
+            stale.unlink(missing_ok=True)
         if not _finished(path):
             save(compute_point(point), path)
     finally:
@@ -457,10 +501,32 @@ def _execute_local(todo, folder, workers, bar):
         return
     threads = max(1, (os.cpu_count() or 1) // workers)
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads,)) as pool:
+    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads,))
+    try:
         for future in as_completed([pool.submit(run_point, p, str(folder)) for p in todo]):
             future.result()
             bar.update()
+    except BaseException:  # Ctrl-C, or a failed point: stop now, not after every queued point
+        _stop_pool(pool)
+        raise
+    pool.shutdown()
+
+
+def _stop_pool(pool, grace: float = 3.0):
+    """Cancel what has not started, interrupt the workers so they remove what they were writing, kill stragglers."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    try:
+        for process in processes:
+            if process.is_alive():
+                os.kill(process.pid, signal.SIGINT)
+        deadline = time.monotonic() + grace
+        for process in processes:
+            process.join(max(0.0, deadline - time.monotonic()))
+    finally:  # also when a second Ctrl-C lands here
+        for process in processes:
+            if process.is_alive():
+                process.kill()
 
 
 def _execute_dask(todo, folder, scheduler, bar):
@@ -590,9 +656,10 @@ def collect(folder) -> xr.Dataset:
 
 def _parameter_coords(name, dims, values) -> dict:
     """A swept (dims = (name,)) or fixed (dims = ()) parameter's coordinate; openings also in degrees."""
-    if not name.endswith("opening"):
-        return {name: (dims, values, {})}
-    return {name: (dims, values, {"units": "rad"}), f"{name}_degrees": (dims, np.degrees(values), {"units": "degree"})}
+    coords = {name: (dims, values, parameter_attrs(name))}
+    if name.endswith("opening"):
+        coords[f"{name}_degrees"] = (dims, np.degrees(values), parameter_attrs(f"{name}_degrees"))
+    return coords
 
 
 def _collected_dataset(manifest, dims, arrays, first) -> xr.Dataset:

@@ -70,7 +70,7 @@ from .grid import Grid
 from .kernels import labels as label_kernels
 from .orientations import allowed_orientations
 from .pair import as_pair
-from .progress import progress_iter
+from .progress import progress_bar, progress_iter
 from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, SeSP
 
@@ -323,20 +323,25 @@ def topology_profile(
     return np.array([c.count for c in found]), [c.areas for c in found]
 
 
-def _memoised(measure, summary, cache):
-    """opening -> summary(measure(opening)), measuring each opening once (``cache`` holds the measures)."""
+def _memoised(measure, summary, cache, bar=None):
+    """opening -> summary(measure(opening)), measuring each opening once (``cache`` holds the measures).
+
+    ``bar`` (a progress bar) counts the openings measured.
+    """
 
     def state(opening):
         if opening not in cache:
             cache[opening] = measure(opening)
+            if bar is not None:
+                bar.update(1)
         return summary(cache[opening])
 
     return state
 
 
-def _counter(make, quantity, grid, segments, cache):
+def _counter(make, quantity, grid, segments, cache, bar=None):
     """opening -> (count, thinnest component) on ``grid``; ``cache`` maps openings to Components."""
-    return _memoised(lambda opening: _count(make, opening, quantity, grid, segments), _state, cache)
+    return _memoised(lambda opening: _count(make, opening, quantity, grid, segments), _state, cache, bar)
 
 
 def _first_pass_transitions(state, openings, tolerance, resolution):
@@ -418,15 +423,17 @@ def find_transitions(
         [c.areas for c in found],
         thinnest=np.array([_thinnest(c) for c in found]),
     )
-    state = _counter(make, quantity, grid, segments, dict(zip(openings.tolist(), found)))
     resolution = (grid.nx, grid.ny, grid.nphi)
-    coarse = _first_pass_transitions(state, openings, tolerance, resolution)
+    with progress_bar(None, progress, f"bisect ({grid.nx}x{grid.ny}x{grid.nphi})", unit="Ψ") as bar:
+        state = _counter(make, quantity, grid, segments, dict(zip(openings.tolist(), found)), bar)
+        coarse = _first_pass_transitions(state, openings, tolerance, resolution)
     result.transitions[resolution] = coarse
     if refine_factor > 1:
         fine = Grid(grid.nx * refine_factor, grid.ny * refine_factor, grid.nphi * refine_factor)
-        result.transitions[(fine.nx, fine.ny, fine.nphi)] = _rebracket(
-            make, coarse, quantity, fine, segments, step, tolerance
-        )
+        with progress_bar(None, progress, f"re-bracket ({fine.nx}x{fine.ny}x{fine.nphi})", unit="Ψ") as bar:
+            result.transitions[(fine.nx, fine.ny, fine.nphi)] = _rebracket(
+                make, coarse, quantity, fine, segments, step, tolerance, bar
+            )
     return result
 
 
@@ -442,14 +449,14 @@ def _windows(coarse, step, factor):
     return merged
 
 
-def _rebracket(make, coarse, quantity, grid, segments, step, tolerance):
+def _rebracket(make, coarse, quantity, grid, segments, step, tolerance, bar=None):
     """Re-bisect the coarse transitions on a finer grid.
 
     Each is searched in a window of one coarse step on either side, widened
     (2, then 4 steps) while the counts at the window's ends are equal, so a
     transition that moved with resolution is followed, not lost.
     """
-    state = _counter(make, quantity, grid, segments, {})
+    state = _counter(make, quantity, grid, segments, {}, bar)
     resolution = (grid.nx, grid.ny, grid.nphi)
     out = []
     for factor in (1, 2, 4):
@@ -689,5 +696,12 @@ def axis_transitions(
         "excluded (axis)", openings, np.array([s[0] for s in states]), areas, thinnest=np.array([s[1] for s in states])
     )
     resolution = (nodes, 1, 0)
-    result.transitions[resolution] = _first_pass_transitions(state, openings, tolerance, resolution)
+    with progress_bar(None, progress, f"bisect ({nodes} axis nodes)", unit="Ψ") as bar:
+        state = _memoised(
+            lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(),
+            _axis_summary,
+            cache,
+            bar,
+        )
+        result.transitions[resolution] = _first_pass_transitions(state, openings, tolerance, resolution)
     return result
