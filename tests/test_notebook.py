@@ -21,5 +21,6 @@ def test_topology_notebook_runs(tmp_path):
     )
     client.execute()
     outputs = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", []))
+    assert "TqdmWarning" not in outputs and "Warning" not in outputs  # progress off: no bar, no warning
     assert "components" in outputs and "transitions on grid" in outputs
     assert (tmp_path / "asp90.nc").is_file()

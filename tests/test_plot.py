@@ -122,3 +122,37 @@ def test_onsager_plot_draws_b2_and_the_leading_instability(sweep_ds, tmp_path):
     np.testing.assert_allclose(np.sort(plotted), np.sort(sweep_ds.second_virial_coefficient.values.ravel()))
     assert bottom.get_yscale() == "log" and "rho" in bottom.get_ylabel()
     assert_not_blank(_save(fig, tmp_path / "onsager.png"))
+
+
+def test_maps_explain_themselves_and_fill_their_panels(sweep_ds, tmp_path):
+    four = sweep_ds.isel(opening=[0, 1]).isel(n=[0, 1])  # 2 x 2 points: a 2 x 2 layout, no empty slot
+    fig = plot.map_grid(four.stack(point=("n", "opening")).unstack("point"), style="raster")
+    maps = [ax for ax in fig.axes if ax.images and ax.get_xlabel().startswith("$x$")]
+    assert len(maps) == 4
+    positions = {(round(ax.get_position().x0, 2), round(ax.get_position().y0, 2)) for ax in maps}
+    assert len({x for x, _ in positions}) == 2 and len({y for _, y in positions}) == 2
+    legend_text = " ".join(t.get_text() for legend in fig.legends for t in legend.get_texts())
+    assert "excluded" in legend_text and "free" in legend_text and "boundary" in legend_text
+    key = [ax for ax in fig.axes if ax.get_ylabel() == "fraction allowed"]
+    assert len(key) == 1  # the hue x lightness key of the raster style
+    assert_not_blank(_save(fig, tmp_path / "maps.png"))
+
+
+def test_panels_colour_bar_spans_the_drawn_phi_and_counts_have_integer_ticks(sweep_ds, tmp_path):
+    fig = plot.excluded_area_panels(sweep_ds)
+    bar = [ax for ax in fig.axes if "panels (f)" in ax.get_ylabel()]
+    assert len(bar) == 1 and bar[0].get_ylim() == (0.0, 180.0)
+    darkest = [line.get_color() for line in fig.axes[5].lines]
+    assert all(sum(matplotlib.colors.to_rgb(c)) < 2.7 for c in darkest)  # no near-white line on white
+    plt.close(fig)
+    top = plot.topology_plot(sweep_ds).axes[0]
+    ticks = [t for t in top.get_yticks() if top.get_ylim()[0] <= t <= top.get_ylim()[1]]
+    assert ticks and all(float(t).is_integer() for t in ticks)
+    plt.close("all")
+
+
+def test_class_map_names_the_classes(scan_ds, tmp_path):
+    ax = plot.class_map(scan_ds)
+    bar = ax.figure.axes[-1]
+    assert [t.get_text() for t in bar.get_yticklabels()] == ["free", "spooning", "entangled", "excluded"]
+    assert_not_blank(_save(ax, tmp_path / "classes.png"), min_colors=4)

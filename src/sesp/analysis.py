@@ -74,7 +74,9 @@ def analyze(
           entanglement test);
         * ``"topology"``: ``excluded_components`` (robust count) and
           ``component_area(component)`` (b², largest first, NaN-padded to
-          ``COMPONENTS_KEPT``);
+          ``COMPONENTS_KEPT``) and ``component_radius(component)`` (inscribed
+          radius in node spacings: below ``RESOLVED_PEAK`` a component is at
+          the grid's reach);
         * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}
@@ -147,9 +149,16 @@ def _add_components(ds):
     comps = excluded_components(ds)
     areas = np.full(COMPONENTS_KEPT, np.nan)
     areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
+    radii = np.full(COMPONENTS_KEPT, np.nan)
+    radii[: min(comps.count, COMPONENTS_KEPT)] = comps.peaks[:COMPONENTS_KEPT]
     ds["excluded_components"] = xr.DataArray(
         comps.count, attrs={"long_name": "robust count of excluded components", "units": "1"}
     )
     ds["component_area"] = xr.DataArray(
         areas, dims="component", attrs={"units": "b^2", "long_name": "areas of the excluded components, largest first"}
+    )
+    ds["component_radius"] = xr.DataArray(
+        radii,
+        dims="component",
+        attrs={"units": "node spacings", "long_name": "inscribed radius of each excluded component"},
     )

@@ -273,15 +273,16 @@ def _check_plot_input(kind: str, path, ds):
     if kind != "map" and fmt != "sesp.sweep":
         raise ValueError(f"{path}: plot {kind} needs a collected sweep file, got a {fmt} file")
     needs = {
-        "maps": "opening",
-        "curve": "opening",
-        "panels": "n",
-        "topology": "opening",
-        "onsager": "opening",
-        "thickness": "thickness",
+        "maps": ("opening", "n"),
+        "curve": ("opening",),
+        "panels": ("n",),
+        "topology": ("opening",),
+        "onsager": ("opening",),
+        "thickness": ("thickness",),
     }
-    if kind in needs and needs[kind] not in ds.dims:
-        raise ValueError(f"{path}: plot {kind} needs a sweep over {needs[kind]!r}; this one sweeps {list(ds.dims)}")
+    if kind in needs and not any(d in ds.dims for d in needs[kind]):
+        wanted = " or ".join(repr(d) for d in needs[kind])
+        raise ValueError(f"{path}: plot {kind} needs a sweep over {wanted}; this one sweeps {list(ds.dims)}")
 
 
 def _cmd_plot(args) -> int:
@@ -301,14 +302,14 @@ def _cmd_plot(args) -> int:
         ds = load(args.file)
         _check_plot_input(args.kind, args.file, ds)
         if args.kind == "map":
-            fig, ax = plt.subplots(figsize=(6, 5), layout="constrained")
+            fig, ax = plt.subplots(figsize=(5.5, 4.5))
             plot.allowed_map(ds, style=args.style, ax=ax)
         else:
             kind = {"maps": "maps" if args.style == "dots" else "maps_raster"}.get(args.kind, args.kind)
             fig = plot.figure(kind, ds)
     if args.dpi <= 0 or not math.isfinite(args.dpi):
         raise ValueError(f"--dpi must be a number > 0, got {args.dpi}")
-    fig.savefig(args.output, dpi=args.dpi)
+    fig.savefig(args.output, dpi=args.dpi, bbox_inches="tight")
     plt.close(fig)
     print(f"wrote {args.output}")
     return 0

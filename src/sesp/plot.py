@@ -32,10 +32,16 @@ __all__ = [
     "figure",
     "onsager_plot",
     "thickness_curves",
+    "orientation_key",
+    "map_legend_handles",
+    "class_map",
 ]
 
 PHI_CMAP = "twilight"
-CLASS_COLORS = ("#ffffff", "#9ecae1", "#fdae6b", "#252525")
+PANEL_PHI_CMAP = "plasma"  # φ over [0°, 180°] only: sequential, its near-white end left out
+PSI_LABEL = r"opening $\Psi$ (degrees)"
+NORMALIZED_LABEL = r"$\langle A_\mathrm{ex} \rangle / \langle A_\mathrm{ex} \rangle_\mathrm{closed}$"
+CLASS_COLORS = ("#d9d9d9", "#9ecae1", "#fdae6b", "#252525")  # free, spooning, entangled, excluded
 
 
 def _axes(ax):
@@ -135,7 +141,7 @@ def allowed_map(
     ax=None,
     particle=None,
     outlines: bool = True,
-    samples: int = 40_000,
+    samples: int = 15_000,
     seed: int = 0,
     colorbar: bool = True,
 ):
@@ -172,12 +178,13 @@ def allowed_map(
             cmap=PHI_CMAP,
             vmin=0,
             vmax=2 * np.pi,
-            s=1.5,
+            s=2.0,
             lw=0,
             rasterized=True,
         )
     elif style == "raster":
         summary = ds if "allowed_fraction" in ds else position_summary(ds)
+        ds = ds if "classes" in ds else ds.assign(classes=summary.classes)
         rgb = _orientation_colors(summary.allowed_fraction.values, summary.mean_orientation.values)
         ax.imshow(rgb, origin="lower", extent=extent, interpolation="nearest")
         art = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
@@ -185,14 +192,101 @@ def allowed_map(
         raise ValueError(f"style must be 'raster' or 'dots', got {style!r}")
     classes = ds["classes"] if "classes" in ds else None
     if outlines and classes is not None:
-        ax.contour(x, y, classes.values, levels=[0.5, 1.5, 2.5], colors="k", linewidths=0.4)
+        _class_outlines(ax, x, y, classes.values)
     shape = _particle_of(ds, particle)
     if shape is not None:
         draw_particle(shape, ax, color="k", lw=2)
+    ax.set(xlim=extent[:2], ylim=extent[2:], xlabel=r"$x$ ($b$)", ylabel=r"$y$ ($b$)", aspect="equal")
     if colorbar:
-        bar = ax.figure.colorbar(art, ax=ax, label="φ (rad)", ticks=np.arange(5) * np.pi / 2)
-        bar.ax.set_yticklabels(["0", "π/2", "π", "3π/2", "2π"])
-    ax.set(xlim=extent[:2], ylim=extent[2:], xlabel="x / b", ylabel="y / b", aspect="equal")
+        key = ax.inset_axes([1.06, 0.55, 0.3, 0.3])
+        if style == "raster":
+            orientation_key(key)
+        else:
+            _phi_colorbar(ax.figure, art, key)
+        if outlines and classes is not None:
+            ax.legend(handles=map_legend_handles(style), loc="upper left", bbox_to_anchor=(1.02, 0.45),
+                      fontsize=7, frameon=False)  # fmt: skip
+    return ax
+
+
+# Lines that outline the position classes on a map: class -> line style.
+OUTLINES = {"excluded": ("-", 0.9), "free": ("--", 0.7), "entangled": (":", 0.9)}
+
+
+def _class_outlines(ax, x, y, classes):
+    """Boundaries of the excluded, free and entangled positions, at the resolution of the data.
+
+    Each class's indicator is smoothed over about one node before its 0.5
+    contour is drawn, so a boundary follows the data between nodes instead of
+    a pixel staircase, and isolated single-node specks do not draw rings.
+    """
+    from scipy import ndimage
+
+    from .regions import CLASSES
+
+    for name, (style, width) in OUTLINES.items():
+        indicator = ndimage.gaussian_filter((classes == CLASSES.index(name)).astype(float), 0.8)
+        if indicator.max() > 0.5:
+            ax.contour(x, y, indicator, levels=[0.5], colors="k", linestyles=style, linewidths=width)
+
+
+def map_legend_handles(style="raster") -> list:
+    """Legend entries that explain a map: what white, grey and the outlines mean."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles = [
+        Patch(facecolor="white", edgecolor="0.3", lw=0.5, label="excluded (no $\\phi$ allowed)"),
+        Patch(facecolor="0.55" if style == "raster" else "none", edgecolor="0.3", lw=0.5,
+              label="free (every $\\phi$ allowed)" if style == "raster" else "no dot: excluded"),
+    ]  # fmt: skip
+    handles += [
+        Line2D([], [], color="k", ls=ls, lw=lw, label=f"{name} boundary") for name, (ls, lw) in OUTLINES.items()
+    ]
+    return handles
+
+
+def orientation_key(ax):
+    """The 2D colour key of raster maps: hue = mean allowed φ, lightness = fraction of φ allowed."""
+    phi = np.linspace(0, 2 * np.pi, 128)
+    fraction = np.linspace(0, 1, 64)
+    fraction_grid, phi_grid = np.meshgrid(fraction, phi, indexing="ij")
+    ax.imshow(_orientation_colors(fraction_grid, phi_grid), origin="lower", aspect="auto",
+              extent=(0, 2 * np.pi, 0, 1))  # fmt: skip
+    ax.set_xticks([0, np.pi, 2 * np.pi], ["0", r"$\pi$", r"$2\pi$"])
+    ax.set_yticks([0, 0.5, 1])
+    ax.set_xlabel(r"mean allowed $\phi$", fontsize=7)
+    ax.set_ylabel("fraction allowed", fontsize=7)
+    ax.tick_params(labelsize=7)
+    return ax
+
+
+def _phi_colorbar(fig, mappable, cax):
+    bar = fig.colorbar(mappable, cax=cax, ticks=np.arange(5) * np.pi / 2)
+    bar.ax.set_yticklabels(["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"])
+    bar.set_label(r"$\phi$ (rad)")
+    return bar
+
+
+def class_map(ds: xr.Dataset, *, ax=None, particle=None):
+    """The position classes of a scan or summary, one colour each, with the class names on the colour bar."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    from .regions import CLASSES, classify
+
+    ax = _axes(ax)
+    classes = classify(ds)
+    x, y = ds.x.values, ds.y.values
+    cmap = ListedColormap(CLASS_COLORS)
+    norm = BoundaryNorm(np.arange(len(CLASSES) + 1) - 0.5, cmap.N)
+    image = ax.pcolormesh(x, y, classes.values, cmap=cmap, norm=norm, shading="nearest", rasterized=True)
+    bar = plt.colorbar(image, ax=ax, ticks=np.arange(len(CLASSES)))
+    bar.ax.set_yticklabels(CLASSES)
+    shape = _particle_of(ds, particle)
+    if shape is not None:
+        draw_particle(shape, ax, color="C3", lw=1.5)
+    ax.set(xlabel=r"$x$ ($b$)", ylabel=r"$y$ ($b$)", aspect="equal")
     return ax
 
 
@@ -207,11 +301,11 @@ def excluded_area_curve(ds: xr.Dataset, *, ax=None):
     deg = _opening_degrees(ds)
     if "n" in value.dims:
         for i, n in enumerate(value.n.values):
-            ax.plot(deg, value.sel(n=n).values, "o-", ms=2.5, color=f"C{i}", label=f"n = {n:g}")
+            ax.plot(deg, value.sel(n=n).values, "o-", ms=2.5, color=f"C{i}", label=f"$n = {n:g}$")
         ax.legend(frameon=False)
     else:
         ax.plot(deg, value.values, "o-", ms=2.5)
-    ax.set(xlabel="opening Ψ (degrees)", ylabel="A_ex / A_ex(closed)", xlim=(0, 360), ylim=(0, None))
+    ax.set(xlabel=PSI_LABEL, ylabel=NORMALIZED_LABEL, xlim=(0, 360), ylim=(0, None))
     ax.set_xticks(np.arange(0, 361, 90))
     return ax
 
@@ -238,25 +332,29 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
     for ax, phi_deg in zip(axes[:5], phis):
         phi = _nearest_phi(ds, phi_deg)
         for color, n in zip(n_colors, ns):
-            ax.plot(deg, value.sel(n=n, phi=phi).values, color=color, label=f"n = {n:g}")
-        ax.set_title(f"φ = {math.degrees(phi):.0f}°", fontsize=9)
+            ax.plot(deg, value.sel(n=n, phi=phi).values, color=color, label=f"$n = {n:g}$")
+        ax.set_title(f"$\\phi = {math.degrees(phi):.0f}°$", fontsize=9)
     axes[0].legend(frameon=False, fontsize=8)
     shades = np.arange(0, 181, 22.5)
-    phi_cmap = matplotlib.colormaps[PHI_CMAP]
+    # only φ in [0°, 180°] is drawn (A_ex(φ) = A_ex(−φ)): a sequential map over that range, dark to light,
+    # with no colour close to the white background
+    phi_cmap = matplotlib.colors.ListedColormap(matplotlib.colormaps[PANEL_PHI_CMAP](np.linspace(0.0, 0.85, 256))[::-1])
+    phi_norm = plt.Normalize(0, 180)
     for ax, n in zip(axes[5:], ns):
         for phi_deg in shades:
             phi = _nearest_phi(ds, phi_deg)
-            ax.plot(deg, value.sel(n=n, phi=phi).values, color=phi_cmap(phi / (2 * np.pi)), lw=1)
-        ax.set_title(f"n = {n:g}", fontsize=9)
+            ax.plot(deg, value.sel(n=n, phi=phi).values, color=phi_cmap(phi_norm(math.degrees(phi))), lw=1)
+        ax.set_title(f"$n = {n:g}$", fontsize=9)
     for label, ax in zip("abcdefghi", axes):
         ax.text(0.02, 0.04, f"({label})", transform=ax.transAxes, fontsize=9)
         ax.set_xticks(np.arange(0, 361, 90))
     for ax in axes[6:]:
-        ax.set_xlabel("opening Ψ (degrees)")
+        ax.set_xlabel(PSI_LABEL)
     for ax in axes[::3]:
-        ax.set_ylabel("A_ex(φ) / A_ex(closed)")
-    sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 360))
-    fig.colorbar(sm, ax=axes[5:].tolist(), label="φ (degrees), panels f–i", shrink=0.6)
+        ax.set_ylabel(r"$A_\mathrm{ex}(\phi) / \langle A_\mathrm{ex} \rangle_\mathrm{closed}$")
+    sm = plt.cm.ScalarMappable(cmap=phi_cmap, norm=phi_norm)
+    bar = fig.colorbar(sm, ax=axes[5:].tolist(), shrink=0.6, ticks=np.arange(0, 181, 45))
+    bar.set_label(r"$\phi$ (degrees), panels (f)–(i)")
     return fig
 
 
@@ -264,8 +362,10 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
     """Excluded components and their areas against Ψ, with the changes marked.
 
     ``ds`` is a collected sweep with ``excluded_components`` and
-    ``component_area`` (keep "topology"). For n = 2 the exact island area
-    (π − Ψ) − sin Ψ is drawn for comparison.
+    ``component_area`` (keep "topology"). A change of the count is drawn
+    solid where every component on both sides is at least ``RESOLVED_PEAK``
+    nodes thick, dotted (grid-limited) otherwise. For n = 2 the exact island
+    area (π − Ψ) − sin Ψ is drawn for comparison.
     """
     import matplotlib.pyplot as plt
 
@@ -276,22 +376,39 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
         series = [(float(n), ds.sel(n=n)) for n in ds.n.values]
     else:
         series = [(float(ds.n) if "n" in ds.coords else None, ds)]
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
+
+    from .topology import RESOLVED_PEAK
+
+    limited_drawn = False
     for i, (n, sub) in enumerate(series):
-        label = "" if n is None else f"n = {n:g}"
+        label = "" if n is None else f"$n = {n:g}$"
         counts = sub.excluded_components.values
         top.step(deg, counts, where="mid", color=f"C{i}", label=label)
+        radius = sub.component_radius.values if "component_radius" in sub else np.zeros_like(sub.component_area)
+        thinnest = np.min(np.where(np.isnan(radius), np.inf, radius), axis=1)  # files without radii: not resolved
         for j in np.flatnonzero(np.diff(counts)):
-            top.axvline(0.5 * (deg[j] + deg[j + 1]), color=f"C{i}", ls=":", lw=0.8)
+            resolved = min(thinnest[j], thinnest[j + 1]) >= RESOLVED_PEAK
+            limited_drawn |= not resolved
+            top.axvline(0.5 * (deg[j] + deg[j + 1]), color=f"C{i}", ls="-" if resolved else ":",
+                        lw=0.9 if resolved else 0.6, alpha=1.0 if resolved else 0.6)  # fmt: skip
         areas = sub.component_area.values
         bottom.plot(deg, areas[:, 0], "o-", ms=3, color=f"C{i}", label=f"largest {label}")
         bottom.plot(deg, areas[:, 1], "s--", ms=3, color=f"C{i}", label=f"second {label}")
     if any(n == 2 for n, _ in series):
         psi = np.radians(np.linspace(0, 180, 200))
-        bottom.plot(np.degrees(psi), (np.pi - psi) - np.sin(psi), "k:", lw=1, label="exact ASP lens (π − Ψ) − sin Ψ")
+        bottom.plot(np.degrees(psi), (np.pi - psi) - np.sin(psi), "k:", lw=1,
+                    label=r"exact ASP lens $(\pi - \Psi) - \sin \Psi$")  # fmt: skip
     top.set(ylabel="excluded components")
-    if any(n is not None for n, _ in series):
-        top.legend(frameon=False, fontsize=8)
-    bottom.set(xlabel="opening Ψ (degrees)", ylabel="component area (b²)", yscale="symlog")
+    top.yaxis.set_major_locator(MaxNLocator(integer=True))
+    handles, _ = top.get_legend_handles_labels()
+    handles.append(Line2D([], [], color="0.3", lw=0.9, label="change, resolved"))
+    if limited_drawn:
+        handles.append(Line2D([], [], color="0.3", ls=":", lw=0.6,
+                              label=f"change, grid-limited (a component < {RESOLVED_PEAK:g} nodes thin)"))  # fmt: skip
+    top.legend(handles=handles, frameon=False, fontsize=8)
+    bottom.set(xlabel=PSI_LABEL, ylabel=r"component area ($b^2$)", yscale="symlog")
     bottom.set_yscale("symlog", linthresh=1e-2)
     bottom.legend(frameon=False, fontsize=7)
     bottom.set_xticks(np.arange(0, 361, 45))
@@ -390,20 +507,23 @@ def map_grid(ds: xr.Dataset, *, style="dots", fig=None):
 
     swept = [d for d in ("opening", "n") if d in ds.dims]
     points = [dict(zip(swept, values)) for values in _product(ds, swept)]
-    cols = min(3, len(points))
+    cols = 2 if len(points) == 4 else min(3, len(points))  # panels laid out for their number
     rows = -(-len(points) // cols)
-    fig = fig or plt.figure(figsize=(4.2 * cols, 3.8 * rows), layout="constrained")
-    axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    fig = fig or plt.figure(figsize=(3.6 * cols + 1.6, 3.4 * rows + 0.4), layout="constrained")
+    grid = fig.add_gridspec(rows, cols + 1, width_ratios=[1] * cols + [0.45])
+    axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(points))]
     for ax, point in zip(axes, points):
         sub = ds.sel(point)
         shape = SeSP(n=float(sub.n) if "n" in sub.coords else 2.0, opening=float(sub.opening))
         allowed_map(sub, style=style, ax=ax, particle=shape, colorbar=False)
-        ax.set_title(f"n = {shape.n:g}, Ψ = {math.degrees(shape.opening):.0f}°", fontsize=9)
-    for ax in axes[len(points) :]:
-        ax.axis("off")
-    sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
-    bar = fig.colorbar(sm, ax=axes.tolist(), label="φ (rad)", shrink=0.6, ticks=np.arange(5) * np.pi / 2)
-    bar.ax.set_yticklabels(["0", "π/2", "π", "3π/2", "2π"])
+        ax.set_title(f"$n = {shape.n:g}$, $\\Psi = {math.degrees(shape.opening):.0f}°$", fontsize=9)
+    key = fig.add_subplot(grid[0, cols])
+    if style == "raster":
+        orientation_key(key)
+    else:
+        sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
+        _phi_colorbar(fig, sm, key)
+    fig.legend(handles=map_legend_handles(style), loc="outside lower center", ncols=5, fontsize=7, frameon=False)
     return fig
 
 
@@ -430,7 +550,7 @@ def render_figures(results, out, *, fmt: str = "png", dpi: float = 150) -> dict:
             outcome[target.name] = f"no {source} (run: sesp sweep sweeps/{sweep}.toml)"
             continue
         fig = figure(kind, None if source is None else load(source))
-        fig.savefig(target, dpi=dpi)
+        fig.savefig(target, dpi=dpi, bbox_inches="tight")
         plt.close(fig)
         outcome[target.name] = target
     return outcome

@@ -95,6 +95,8 @@ SCHEMA = {
 }
 REQUIRED = {"sweep": ("output", "angles"), "particle": ("n", "opening"), "grid": ("nx", "nphi")}
 MANIFEST = "sweep.json"
+# Version of what a point file holds: points written under another version are recomputed, not mixed in.
+POINT_FORMAT = 2
 
 
 class SweepError(ValueError):
@@ -297,7 +299,7 @@ def _particle(params: dict):
 def point_hash(payload: dict) -> str:
     """Stable 16-hex-digit name of a parameter point (angles in radians)."""
     payload = {k: payload[k] for k in ("particle", "other", "grid", "keep")}
-    payload["format"] = 1
+    payload["format"] = POINT_FORMAT
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
