@@ -65,7 +65,7 @@ def test_missing_variable_and_wrong_dims(ds, tmp_path):
     path = save(ds.drop_vars("allowed"), tmp_path / "m.nc")
     with pytest.raises(SespFileError, match="missing variable 'allowed'"):
         load(path)
-    path = save(ds.transpose("x", "y", "phi"), tmp_path / "d.nc")
+    path = save(ds.transpose("x", "y", "phi", ...), tmp_path / "d.nc")
     with pytest.raises(SespFileError, match="dims"):
         load(path)
 

@@ -44,7 +44,8 @@ __all__ = [
     "format_of",
     "base_attrs",
     "particle_attrs",
-    "particle_from_attrs",
+    "particle_of",
+    "pair_variables",
     "pair_attrs",
     "pair_of",
     "grid_attrs",
@@ -158,18 +159,38 @@ def particle_attrs(particle, curve: Polyline, prefix: str) -> dict:
     attrs[f"{prefix}_segments"] = curve.segments
     attrs[f"{prefix}_length"] = curve.length
     attrs[f"{prefix}_max_radius"] = curve.max_radius
-    attrs[f"{prefix}_vertices"] = curve.vertices.ravel().copy()
     return attrs
 
 
-def particle_from_attrs(attrs, prefix: str = "particle"):
-    """The SeSP or Polyline described by :func:`particle_attrs`."""
+def pair_variables(pair: Pair) -> dict:
+    """The two polylines' vertices as variables ``particle_vertices`` and ``other_vertices`` (b)."""
+    return {
+        f"{prefix}_vertices": (
+            (f"{prefix}_vertex", "xy"),
+            curve.vertices.copy(),
+            {
+                "long_name": f"vertices of {'particle 1' if prefix == 'particle' else 'particle 2'}'s polyline",
+                "units": "b",
+            },
+        )  # fmt: skip
+        for prefix, curve in (("particle", pair.curve1), ("other", pair.curve2))
+    }
+
+
+VERTEX_VARIABLES = ("particle_vertices", "other_vertices")
+
+
+def particle_of(ds, prefix: str = "particle"):
+    """The SeSP or Polyline a dataset describes (:func:`particle_attrs`, :func:`pair_variables`)."""
+    attrs = ds.attrs
     kind = attrs.get(f"{prefix}_kind")
     thickness = float(attrs.get(f"{prefix}_thickness", 0.0))
     if kind == "SeSP":
         return SeSP(**{k: float(attrs[f"{prefix}_{k}"]) for k in SHAPE_KEYS}, thickness=thickness)
     if kind == "Polyline":
-        return Polyline(np.asarray(attrs[f"{prefix}_vertices"], dtype=float).reshape(-1, 2), thickness=thickness)
+        name = f"{prefix}_vertices"
+        vertices = ds[name].values if name in ds else attrs[name]  # files of sesp < 0.2 kept them as attributes
+        return Polyline(np.asarray(vertices, dtype=float).reshape(-1, 2), thickness=thickness)
     raise SespFileError(f"attribute {prefix}_kind must be 'SeSP' or 'Polyline', got {kind!r}")
 
 
@@ -190,7 +211,7 @@ def pair_of(ds) -> Pair:
     if "particle_kind" not in attrs:
         raise SespFileError(f"a {format_of(ds)} dataset does not describe one pair of particles")
     segments = int(attrs["particle_segments"])
-    first, second = particle_from_attrs(attrs, "particle"), particle_from_attrs(attrs, "other")
+    first, second = particle_of(ds, "particle"), particle_of(ds, "other")
     return Pair.of(first, None if attrs.get("identical_particles") and first == second else second, segments=segments)
 
 

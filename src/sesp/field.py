@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from .checks import check_choice, check_positive, check_samples
-from .dataset import base_attrs, coords, grid_attrs, pair_attrs
+from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .grid import Grid
 from .kernels import hull, overlap
 from .pair import Pair, as_pair
@@ -144,7 +144,7 @@ def reduce(
     for part in parts:
         for r in reductions:
             r.add(part)
-    variables = {}
+    variables = pair_variables(pair)
     attrs = {**base_attrs(kind), **pair_attrs(pair), **grid_attrs(grid), "engine": engine}
     for r in reductions:
         variables.update(r.finish())
@@ -278,6 +278,7 @@ def monte_carlo(
     area = {"units": "b^2"}
     return xr.Dataset(
         {
+            **pair_variables(pair),
             "x": ("sample", x, {"units": "b", "long_name": "x of particle 2's centre"}),
             "y": ("sample", y, {"units": "b", "long_name": "y of particle 2's centre"}),
             "phi": ("sample", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .dataset import SespFileError, particle_from_attrs
+from .dataset import SespFileError, particle_of
 from .io import load
 from .onsager import ORDER_NAMES as ORDER_NAME
 from .regions import position_summary
@@ -114,7 +114,7 @@ def _particle_of(ds, particle):
         return particle
     if "particle_kind" in ds.attrs:
         try:
-            return particle_from_attrs(ds.attrs, "particle")
+            return particle_of(ds, "particle")
         except (SespFileError, KeyError):
             pass
     coords = {k: float(ds[k]) for k in ("n", "opening") if k in ds.coords and ds[k].ndim == 0}

@@ -23,7 +23,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .dataset import coords, grid_of
+from .dataset import VERTEX_VARIABLES, coords, grid_of
 from .field import Slices, reduce, resolve_grid
 from .grid import Grid
 from .pair import as_pair
@@ -132,6 +132,7 @@ def position_summary(ds: xr.Dataset) -> xr.Dataset:
     attrs = {k: v for k, v in ds.attrs.items() if k != "allowed_sha256"}
     attrs["sesp_format"] = "sesp.summary"
     variables = summary.finish()
+    variables.update({name: ds[name] for name in VERTEX_VARIABLES if name in ds})
     return xr.Dataset(variables, coords=coords(grid), attrs=attrs)
 
 

@@ -312,7 +312,7 @@ def _output_folder(path: Path, in_file, override) -> Path:
     if not isinstance(in_file, str) or not in_file or "\0" in in_file:
         raise SweepError(f"{path}: [sweep] output must be a folder name (a string), got {in_file!r}")
     out = Path(in_file)
-    return out if out.is_absolute() else path.parent / out
+    return out if out.is_absolute() else Path(os.path.normpath(path.parent / out))
 
 
 def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
@@ -412,9 +412,9 @@ def compute_point(point: SweepPoint) -> xr.Dataset:
     """The results of one parameter point (:func:`sesp.analyze`), labelled as a sweep point."""
     out = analyze(point.pair(), Grid(**point.grid), keep=point.keep)
     # a SeSP is rebuilt from its parameters; a polyline's vertices must stay
-    attrs = out.attrs
-    kept = {k: v for k, v in attrs.items() if not (k.endswith("_vertices") and attrs[f"{k[:-9]}_kind"] == "SeSP")}
-    out.attrs = {**kept, **base_attrs("sesp.point"), "point_hash": point.hash, "point": point.to_json()}
+    rebuilt = [f"{p}_vertices" for p in ("particle", "other") if out.attrs[f"{p}_kind"] == "SeSP"]
+    out = out.drop_vars(rebuilt)
+    out.attrs.update({**base_attrs("sesp.point"), "point_hash": point.hash, "point": point.to_json()})
     return out
 
 
@@ -459,8 +459,11 @@ def _alive(pid: int) -> bool:
 def run_point(point: SweepPoint, folder: str) -> str | None:
     """Compute one point and write ``folder/<hash>.nc`` atomically; return its path.
 
-    Returns None, computing nothing, when another live runner holds the point.
+    Returns None, computing nothing, when another live runner holds the point,
+    or when this worker process has been told to stop.
     """
+    if _STOPPING:
+        return None
     path = Path(folder) / f"{point.hash}.nc"
     if not _claim(folder, point):
         return None
@@ -491,7 +494,17 @@ def warm_up():
     return os.getpid()
 
 
+_STOPPING = False  # set in a worker process once it was interrupted: it starts no further point
+
+
+def _interrupted(signum, frame):
+    global _STOPPING
+    _STOPPING = True
+    raise KeyboardInterrupt
+
+
 def _init_worker(threads: int):
+    signal.signal(signal.SIGINT, _interrupted)
     numba.set_num_threads(max(1, threads))
 
 
