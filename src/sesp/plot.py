@@ -235,11 +235,13 @@ def map_legend_handles(style="raster") -> list:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [
-        Patch(facecolor="white", edgecolor="0.3", lw=0.5, label="excluded (no $\\phi$ allowed)"),
-        Patch(facecolor="0.55" if style == "raster" else "none", edgecolor="0.3", lw=0.5,
-              label="free (every $\\phi$ allowed)" if style == "raster" else "no dot: excluded"),
-    ]  # fmt: skip
+    if style == "raster":
+        handles = [
+            Patch(facecolor="white", edgecolor="0.3", lw=0.5, label="excluded (no $\\phi$ allowed)"),
+            Patch(facecolor="0.55", edgecolor="0.3", lw=0.5, label="free (every $\\phi$ allowed)"),
+        ]
+    else:
+        handles = [Patch(facecolor="white", edgecolor="0.3", lw=0.5, label="no dots: excluded")]
     handles += [
         Line2D([], [], color="k", ls=ls, lw=lw, label=f"{name} boundary") for name, (ls, lw) in OUTLINES.items()
     ]
@@ -510,19 +512,21 @@ def map_grid(ds: xr.Dataset, *, style="dots", fig=None):
     cols = 2 if len(points) == 4 else min(3, len(points))  # panels laid out for their number
     rows = -(-len(points) // cols)
     fig = fig or plt.figure(figsize=(3.6 * cols + 1.6, 3.4 * rows + 0.4), layout="constrained")
-    grid = fig.add_gridspec(rows, cols + 1, width_ratios=[1] * cols + [0.45])
+    key_column = style == "raster"  # the 2D key needs room; the dots' φ colour bar goes beside the panels
+    grid = fig.add_gridspec(rows, cols + key_column, width_ratios=[1] * cols + [0.45] * key_column)
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(points))]
     for ax, point in zip(axes, points):
         sub = ds.sel(point)
         shape = SeSP(n=float(sub.n) if "n" in sub.coords else 2.0, opening=float(sub.opening))
         allowed_map(sub, style=style, ax=ax, particle=shape, colorbar=False)
         ax.set_title(f"$n = {shape.n:g}$, $\\Psi = {math.degrees(shape.opening):.0f}°$", fontsize=9)
-    key = fig.add_subplot(grid[0, cols])
-    if style == "raster":
-        orientation_key(key)
+    if key_column:
+        orientation_key(fig.add_subplot(grid[0, cols]))
     else:
         sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
-        _phi_colorbar(fig, sm, key)
+        bar = fig.colorbar(sm, ax=axes, shrink=0.6, ticks=np.arange(5) * np.pi / 2)
+        bar.ax.set_yticklabels(["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"])
+        bar.set_label(r"$\phi$ (rad)")
     fig.legend(handles=map_legend_handles(style), loc="outside lower center", ncols=5, fontsize=7, frameon=False)
     return fig
 
