@@ -87,3 +87,32 @@ def test_attributes_that_do_not_match_data(ds, tmp_path):
 def test_save_leaves_no_temporary_files(ds, tmp_path):
     save(ds, tmp_path / "a.nc")
     assert [p.name for p in tmp_path.iterdir()] == ["a.nc"]
+
+
+def _without(key):
+    def alter(d):
+        d.attrs.pop(key)
+        return d
+
+    return alter
+
+
+def _with_version(d):
+    d.attrs["sesp_format_version"] = 99
+    return d
+
+
+@pytest.mark.parametrize(
+    "alter, word",
+    [
+        (_without("allowed_sha256"), "allowed_sha256 is missing"),
+        (_without("coords_sha256"), "coords_sha256 is missing"),
+        (lambda d: d.assign_coords(x=d.x * 10), "coords_sha256"),
+        (_with_version, "sesp_format_version 99"),
+        (_without("sesp_format_version"), "sesp_format_version None"),
+    ],
+)
+def test_integrity_gaps_are_refused(ds, tmp_path, alter, word):
+    bad = alter(ds.copy(deep=True))
+    with pytest.raises(SespFileError, match=word):
+        load(save(bad, tmp_path / "bad.nc"))

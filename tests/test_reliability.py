@@ -147,3 +147,84 @@ def test_malformed_files_are_refused(tmp_path, mutate, word):
     bad.to_netcdf(path)
     with pytest.raises(SespFileError, match=word):
         load(path)
+
+
+def test_swapped_point_file_is_refused_by_collect_and_recomputed_by_a_rerun(tmp_path):
+    from sesp.sweep import SweepError, collect
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out"))
+    run(path, workers=1, progress=False)
+    first, second = _point_files(tmp_path / "out")[:2]
+    second.write_bytes(first.read_bytes())  # a point file under another point's name
+    with pytest.raises(SweepError, match="not the sweep point its name says"):
+        collect(tmp_path / "out")
+    run(path, workers=1, progress=False)  # the swapped point is recomputed, not collected
+    assert _digest(second) != _digest(first)
+
+
+def test_lock_of_a_killed_runner_clears_at_once(tmp_path):
+    """A runner killed while holding a point's lock: the OS releases its flock, a rerun does not wait."""
+    from sesp.sweep import load_spec, with_common_box
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out"))
+    point = with_common_box(load_spec(path)).points()[0]  # the points as the runner names them
+    (tmp_path / "out").mkdir()
+    lock = tmp_path / "out" / f".{point.hash}.lock"
+    holder = subprocess.Popen(
+        [sys.executable, "-c", f"import fcntl, os, time; fd = os.open({str(lock)!r}, os.O_CREAT | os.O_RDWR);"
+         "fcntl.flock(fd, fcntl.LOCK_EX); print('held', flush=True); time.sleep(600)"],
+        stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    assert holder.stdout.readline().strip() == "held"
+    holder.send_signal(signal.SIGKILL)  # same PID reuse or not, nothing about the PID matters
+    holder.wait()
+    holder.stdout.close()
+    start = time.monotonic()
+    run(path, workers=1, progress=False)
+    assert time.monotonic() - start < 60 and len(_point_files(tmp_path / "out")) == 8
+    assert not list((tmp_path / "out").glob(".*.lock"))  # finished points leave no lock files
+
+
+def test_concurrent_manifest_writers_and_readers(tmp_path):
+    import threading
+
+    from sesp.sweep import load_spec, read_manifest, write_manifest
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out"))
+    spec = load_spec(path)
+    (tmp_path / "out").mkdir()
+    write_manifest(spec, spec.points(), tmp_path / "out")
+    errors = []
+
+    def work(write):
+        try:
+            for _ in range(30):
+                if write:
+                    write_manifest(spec, spec.points(), tmp_path / "out")
+                else:
+                    assert len(read_manifest(tmp_path / "out")["points"]) == 8
+        except Exception as err:
+            errors.append(err)
+
+    threads = [threading.Thread(target=work, args=(w,)) for w in (True, True, False, False)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    assert not list((tmp_path / "out").glob(".sweep.json.*"))
+
+
+def test_size_limits_are_checked_before_anything_is_created(tmp_path, capsys):
+    from sesp.sweep import SweepError, load_spec
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out").replace("nx = 24", "nx = 65536"))
+    with pytest.raises(SweepError, match=r"\[grid\].*memory"):
+        load_spec(path)
+    assert not (tmp_path / "out").exists()
+    assert main(["scan", "--segments", "100000000", "-o", str(tmp_path / "x.nc")]) == 2
+    assert "segments must be an integer in [1, 65536]" in capsys.readouterr().err

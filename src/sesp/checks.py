@@ -50,10 +50,15 @@ def check_count(name: str, value, lo: int, hi: int) -> int:
     return int(value)
 
 
+MAX_SEGMENTS = 1 << 16
+
+
 def check_segments(segments) -> int:
-    """The polyline segment count N >= 1."""
-    if isinstance(segments, bool) or int(segments) != segments or segments < 1:
-        raise ValueError(f"segments must be an integer >= 1, got {segments!r}")
+    """The polyline segment count N in [1, 65536]."""
+    if isinstance(segments, bool) or not isinstance(segments, (int, np.integer, float)):
+        raise ValueError(f"segments must be an integer in [1, {MAX_SEGMENTS}], got {segments!r}")
+    if not (math.isfinite(segments) and int(segments) == segments and 1 <= segments <= MAX_SEGMENTS):
+        raise ValueError(f"segments must be an integer in [1, {MAX_SEGMENTS}], got {segments!r}")
     return int(segments)
 
 

@@ -54,6 +54,7 @@ __all__ = [
     "coords",
     "LONG_NAMES",
     "field_sha256",
+    "coords_sha256",
     "validate",
     "parameter_attrs",
     "PROVENANCE",
@@ -247,6 +248,14 @@ def coords(grid: Grid, dims=FIELD_DIMS) -> dict:
     return {d: every[d] for d in dims}
 
 
+def coords_sha256(ds) -> str:
+    """SHA-256 of the x, y and phi coordinates a field lives on (float64 bytes, in that order)."""
+    digest = hashlib.sha256()
+    for name in ("x", "y", "phi"):
+        digest.update(np.ascontiguousarray(np.asarray(ds[name].values, dtype=np.float64)).tobytes())
+    return digest.hexdigest()
+
+
 def field_sha256(allowed) -> str:
     """SHA-256 of a boolean field's C-ordered bytes (one byte per state)."""
     data = np.ascontiguousarray(np.asarray(allowed, dtype=bool))
@@ -270,9 +279,14 @@ def _check_field(where, ds: xr.Dataset):
     for dim, key in (("x", "nx"), ("y", "ny"), ("phi", "nphi")):
         if key not in ds.attrs or ds.sizes.get(dim) != int(ds.attrs[key]):
             raise SespFileError(f"{where}: size of {dim} does not match attribute {key}")
-    expected = ds.attrs.get("allowed_sha256")
-    if expected is not None and field_sha256(ds.allowed.values) != expected:
-        raise SespFileError(f"{where}: allowed field does not match its recorded SHA-256 (file corrupted?)")
+    for key, actual in (("allowed_sha256", field_sha256(ds.allowed.values)), ("coords_sha256", coords_sha256(ds))):
+        expected = ds.attrs.get(key)
+        if expected is None:
+            raise SespFileError(f"{where}: attribute {key} is missing: the field cannot be checked (file altered?)")
+        if actual != expected:
+            raise SespFileError(
+                f"{where}: the field or its coordinates do not match their recorded SHA-256, {key} (file altered?)"
+            )
 
 
 def validate(ds: xr.Dataset, where="<dataset>") -> xr.Dataset:
@@ -280,6 +294,12 @@ def validate(ds: xr.Dataset, where="<dataset>") -> xr.Dataset:
     kind = format_of(ds)
     if kind not in REQUIRED:
         raise SespFileError(f"{where}: not a sesp dataset (attribute sesp_format is {kind!r})")
+    version = ds.attrs.get("sesp_format_version")
+    if isinstance(version, bool) or not isinstance(version, (int, np.integer)) or version != FORMAT_VERSION:
+        raise SespFileError(
+            f"{where}: sesp_format_version {version if version is None else str(version)} is not the version"
+            f" this sesp reads ({FORMAT_VERSION})"
+        )
     for name, (dims, dtype_kind) in REQUIRED[kind].items():
         if name not in ds:
             raise SespFileError(f"{where}: missing variable {name!r} required in a {kind} file")

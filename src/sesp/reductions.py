@@ -24,8 +24,9 @@ not depend on the thread count either.
 from __future__ import annotations
 
 import numpy as np
+import xarray as xr
 
-from .dataset import LONG_NAMES, field_sha256
+from .dataset import LONG_NAMES, coords_sha256, field_sha256
 
 __all__ = ["Reduction", "StoredField", "ExcludedAreaByPhi", "EntangledAreaByPhi", "FIELDS"]
 
@@ -65,6 +66,7 @@ class StoredField(Reduction):
         self.data = {}
 
     def start(self, pair, grid):
+        self.grid = grid
         shape = (grid.nphi, grid.ny, grid.nx)
         self.data = {name: np.empty(shape, dtype=_DTYPES[name]) for name in self.fields}
 
@@ -77,7 +79,8 @@ class StoredField(Reduction):
         return {name: (dims, array, {"long_name": LONG_NAMES[name], "units": "1"}) for name, array in self.data.items()}
 
     def attrs(self):
-        return {"allowed_sha256": field_sha256(self.data["allowed"])}
+        axes = {"x": xr.DataArray(self.grid.x), "y": xr.DataArray(self.grid.y), "phi": xr.DataArray(self.grid.phi)}
+        return {"allowed_sha256": field_sha256(self.data["allowed"]), "coords_sha256": coords_sha256(axes)}
 
 
 class ExcludedAreaByPhi(Reduction):

@@ -129,7 +129,7 @@ def position_summary(ds: xr.Dataset) -> xr.Dataset:
     summary.start(None, grid)
     tangled = ds.entangled.values if "entangled" in ds else None
     summary.add(Slices(0, grid.nphi, ds.allowed.values, None, tangled))
-    attrs = {k: v for k, v in ds.attrs.items() if k != "allowed_sha256"}
+    attrs = {k: v for k, v in ds.attrs.items() if k not in ("allowed_sha256", "coords_sha256")}
     attrs["sesp_format"] = "sesp.summary"
     variables = summary.finish()
     variables.update({name: ds[name] for name in VERTEX_VARIABLES if name in ds})

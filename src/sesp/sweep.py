@@ -46,6 +46,7 @@ Ranges are ``{start, stop, step}`` or ``{start, stop, num}``.
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import itertools
 import json
@@ -54,6 +55,7 @@ import math
 import multiprocessing
 import os
 import signal
+import tempfile
 import time
 import tomllib
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -66,7 +68,7 @@ import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep
 from .dataset import base_attrs, parameter_attrs
-from .grid import Grid
+from .grid import Grid, available_memory
 from .io import load, save
 from .pair import Pair
 from .progress import progress_bar
@@ -381,17 +383,35 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
 def _check_values(path, spec: SweepSpec):
     """Build every particle and the grid once, naming the file on failure."""
     try:
-        Grid(**spec.grid)
+        grid = Grid(**spec.grid)
+        _check_working_memory(grid)
+        if "allowed" in spec.keep:
+            grid.check_memory([k for k in ("allowed", "crossings", "entangled") if k in spec.keep])
         for point in spec.points():
             point.pair()
-    except ValueError as err:
-        raise SweepError(f"{path}: {err}") from None
+    except (ValueError, MemoryError) as err:
+        raise SweepError(f"{path}: [grid] {err}" if isinstance(err, MemoryError) else f"{path}: {err}") from None
 
 
 def _string(path, key, value) -> str:
     if not isinstance(value, str):
         raise SweepError(f"{path}: [sweep] {key} must be a string, got {value!r}")
     return value
+
+
+# Bytes per (x, y) position that a point's streaming reductions hold: one orientation's counts and flags,
+# the running sums of the position summary (three 8-byte arrays) and its outputs.
+WORKING_BYTES_PER_POSITION = 48
+
+
+def _check_working_memory(grid: Grid):
+    need = grid.nx * grid.ny * WORKING_BYTES_PER_POSITION
+    limit = available_memory() // 2
+    if need > limit:
+        raise MemoryError(
+            f"grid nx={grid.nx}, ny={grid.ny} needs about {need / 2**30:.1f} GiB of working memory per point, "
+            f"over the limit of {limit / 2**30:.1f} GiB: use fewer cells"
+        )
 
 
 def _check_name(path, name):
@@ -422,38 +442,19 @@ def _lock_path(folder, point) -> Path:
     return Path(folder) / f".{point.hash}.lock"
 
 
-def _claim(folder, point) -> bool:
-    """Take the point's lock file; False if a live process holds it.
+def _claim(folder, point) -> int | None:
+    """Hold the point's lock: an ``flock`` that the operating system releases when its holder dies.
 
-    A lock left by a process that no longer exists (killed) is taken over.
+    Returns the open lock file (keep it open while computing), or None when
+    another process holds the lock.
     """
-    lock = _lock_path(folder, point)
-    for _ in range(2):
-        try:
-            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-        except FileExistsError:
-            try:
-                owner = int(lock.read_text() or 0)
-            except (OSError, ValueError):
-                owner = 0
-            if owner and _alive(owner):
-                return False
-            lock.unlink(missing_ok=True)
-            continue
-        with os.fdopen(fd, "w") as handle:
-            handle.write(str(os.getpid()))
-        return True
-    return False
-
-
-def _alive(pid: int) -> bool:
+    fd = os.open(_lock_path(folder, point), os.O_CREAT | os.O_RDWR, 0o644)
     try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # it exists, owned by another user
-        pass
-    return True
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
 
 
 def run_point(point: SweepPoint, folder: str) -> str | None:
@@ -465,26 +466,43 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
     if _STOPPING:
         return None
     path = Path(folder) / f"{point.hash}.nc"
-    if not _claim(folder, point):
+    lock = _claim(folder, point)
+    if lock is None:
         return None
     try:
         for stale in Path(folder).glob(f".{point.hash}.nc.*.tmp"):  # left by a killed writer; the lock is ours
             stale.unlink(missing_ok=True)
         if not _finished(path):
             save(compute_point(point), path)
-    finally:
+        # safe to remove now: whoever locks a stale copy of it finds the point finished
         _lock_path(folder, point).unlink(missing_ok=True)
+    finally:
+        os.close(lock)
     return str(path)
+
+
+def load_point(path: Path) -> xr.Dataset:
+    """A sweep point file, checked to be the point its name says: its recorded parameters hash to its name."""
+    ds = load(path)
+    try:
+        recorded = json.loads(ds.attrs["point"])
+        ok = ds.attrs["sesp_format"] == "sesp.point" and ds.attrs["point_hash"] == path.stem
+        ok = ok and point_hash(recorded) == path.stem
+    except (KeyError, TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise SweepError(f"{path}: not the sweep point its name says (altered, swapped or foreign file)")
+    return ds
 
 
 def _finished(path: Path) -> bool:
     if not path.is_file():
         return False
     try:
-        load(path)
+        load_point(path)
         return True
     except (ValueError, OSError):
-        log.warning("%s is unreadable and will be recomputed", path)
+        log.warning("%s is unreadable or not its point, and will be recomputed", path)
         return False
 
 
@@ -523,8 +541,25 @@ def _execute_local(todo, folder, workers, bar):
             bar.update()
     except BaseException:  # Ctrl-C, or a failed point: stop now, not after every queued point
         _stop_pool(pool)
+        remove_stale_temporaries(folder, todo)
         raise
     pool.shutdown()
+
+
+def remove_stale_temporaries(folder, points):
+    """Remove the temporary files of points that no process is writing (their lock can be taken)."""
+    for point in points:
+        stale = list(Path(folder).glob(f".{point.hash}.nc.*.tmp"))
+        if not stale:
+            continue
+        lock = _claim(folder, point)
+        if lock is None:  # another runner is writing this point now
+            continue
+        try:
+            for path in stale:
+                path.unlink(missing_ok=True)
+        finally:
+            os.close(lock)
 
 
 def _stop_pool(pool, grace: float = 3.0):
@@ -542,6 +577,8 @@ def _stop_pool(pool, grace: float = 3.0):
         for process in processes:
             if process.is_alive():
                 process.kill()
+        for process in processes:
+            process.join(2.0)  # gone, so its lock is released and what it was writing can be removed
 
 
 def _execute_dask(todo, folder, scheduler, bar):
@@ -568,9 +605,17 @@ def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
         "keep": list(spec.keep),
         "source": spec.source,
     }
-    tmp = folder / f".{MANIFEST}.tmp"
-    tmp.write_text(json.dumps(manifest, indent=1))
-    os.replace(tmp, folder / MANIFEST)
+    fd, tmp = tempfile.mkstemp(prefix=f".{MANIFEST}.", suffix=".tmp", dir=folder)  # unique: runners may race
+    try:
+        with os.fdopen(fd, "w") as handle:
+            handle.write(json.dumps(manifest, indent=1))
+        os.replace(tmp, folder / MANIFEST)
+    except OSError as err:
+        Path(tmp).unlink(missing_ok=True)
+        raise OSError(f"{folder / MANIFEST}: could not write the sweep manifest ({err})") from err
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 def run(
@@ -603,12 +648,13 @@ def run(
         The collected file ``<output>/<name>.nc``.
     """
     spec = load_spec(path, output=output)
-    spec = _with_common_box(spec)
+    spec = with_common_box(spec)
     points = spec.points()
     folder = spec.output
     folder.mkdir(parents=True, exist_ok=True)
     write_manifest(spec, points, folder)
     todo = [p for p in points if not _finished(folder / f"{p.hash}.nc")]
+    remove_stale_temporaries(folder, todo)  # left by a runner that was killed
     log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
     if todo:
         warm_up()
@@ -628,27 +674,59 @@ def run(
 
 
 def _wait_for_others(points, folder, poll=0.2):
-    """Finish points that another runner held: wait while it lives, else compute them."""
+    """Finish points that another runner held: wait while it holds them, else compute them."""
     for point in points:
         path = folder / f"{point.hash}.nc"
+        told = False
         while not _finished(path):
             if run_point(point, str(folder)) is None:
+                if not told:
+                    log.info("%s: waiting for another runner that is computing point %s", folder, point.hash)
+                    told = True
                 time.sleep(poll)
 
 
-def _with_common_box(spec: SweepSpec) -> SweepSpec:
+def with_common_box(spec: SweepSpec) -> SweepSpec:
     grid = dict(spec.grid)
     grid["half_width"] = common_half_width(spec)
     return SweepSpec(spec.name, spec.output, spec.particle, spec.other, grid, spec.keep, spec.source)
 
 
+MANIFEST_KEYS = {"name": str, "dims": list, "coords": dict, "points": list, "keep": list, "source": str}
+
+
+def read_manifest(folder: Path) -> dict:
+    """The sweep manifest of ``folder``, checked; a read that meets a concurrent writer is retried."""
+    path = folder / MANIFEST
+    for attempt in range(5):
+        try:
+            manifest = json.loads(path.read_text())
+            break
+        except FileNotFoundError:
+            raise SweepError(f"{folder}: no {MANIFEST}; is this a sweep output folder?") from None
+        except (json.JSONDecodeError, UnicodeDecodeError) as err:
+            if attempt == 4:
+                raise SweepError(f"{path}: not a readable sweep manifest ({err})") from None
+            time.sleep(0.1)
+    wrong = [
+        k
+        for k, kind in MANIFEST_KEYS.items()
+        if not isinstance(manifest, dict) or not isinstance(manifest.get(k), kind)
+    ]
+    if wrong or not manifest["points"]:
+        raise SweepError(f"{path}: not a sesp sweep manifest (expected keys {sorted(MANIFEST_KEYS)} and points)")
+    for entry in manifest["points"]:
+        if not (
+            isinstance(entry, dict) and isinstance(entry.get("hash"), str) and isinstance(entry.get("index"), list)
+        ):
+            raise SweepError(f"{path}: a point entry is malformed: {entry!r}")
+    return manifest
+
+
 def collect(folder) -> xr.Dataset:
     """Combine a sweep folder's point files into one Dataset over the swept parameters."""
     folder = Path(folder)
-    try:
-        manifest = json.loads((folder / MANIFEST).read_text())
-    except FileNotFoundError:
-        raise SweepError(f"{folder}: no {MANIFEST}; is this a sweep output folder?") from None
+    manifest = read_manifest(folder)
     missing = [p["hash"] for p in manifest["points"] if not (folder / f"{p['hash']}.nc").is_file()]
     if missing:
         raise SweepError(
@@ -659,7 +737,7 @@ def collect(folder) -> xr.Dataset:
     shape = tuple(len(manifest["coords"][d]) for d in dims)
     arrays, first = {}, None
     for entry in manifest["points"]:
-        ds = load(folder / f"{entry['hash']}.nc")
+        ds = load_point(folder / f"{entry['hash']}.nc")
         first = first if first is not None else ds
         for name, var in ds.data_vars.items():
             if name not in arrays:
