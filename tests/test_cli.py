@@ -135,3 +135,11 @@ def test_plot_misuse_is_one_line(tmp_path, capsys):
     assert main(["plot", "curve", str(scan_file), "-o", str(tmp_path / "c.png")]) == 2
     err = capsys.readouterr().err
     assert "needs a collected sweep" in err and str(scan_file) in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("manifest", ["[]", "{}", '{"points": []}', "not json"])
+def test_collect_on_a_broken_manifest_is_one_line(manifest, tmp_path, capsys):
+    (tmp_path / "sweep.json").write_text(manifest)
+    assert main(["collect", str(tmp_path), "-o", str(tmp_path / "c.nc")]) == 2
+    err = capsys.readouterr().err
+    assert "sweep.json" in err and "Traceback" not in err and err.count("\n") == 1

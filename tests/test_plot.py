@@ -156,3 +156,15 @@ def test_class_map_names_the_classes(scan_ds, tmp_path):
     bar = ax.figure.axes[-1]
     assert [t.get_text() for t in bar.get_yticklabels()] == ["free", "spooning", "entangled", "excluded"]
     assert_not_blank(_save(ax, tmp_path / "classes.png"), min_colors=4)
+
+
+def test_dots_maps_are_saved_with_a_palette(scan_ds, tmp_path):
+    from PIL import Image
+
+    from sesp import save
+
+    path = save(scan_ds, tmp_path / "scan.nc")
+    assert main(["plot", "map", str(path), "--style", "dots", "-o", str(tmp_path / "dots.png")]) == 0
+    with Image.open(tmp_path / "dots.png") as image:
+        assert image.mode == "P"  # 256 colours: several times smaller than RGBA noise
+    assert_not_blank(tmp_path / "dots.png")

@@ -309,7 +309,7 @@ def _cmd_plot(args) -> int:
             fig = plot.figure(kind, ds)
     if args.dpi <= 0 or not math.isfinite(args.dpi):
         raise ValueError(f"--dpi must be a number > 0, got {args.dpi}")
-    fig.savefig(args.output, dpi=args.dpi, bbox_inches="tight")
+    plot.save_figure(fig, args.output, dpi=args.dpi, palette=args.style == "dots" and args.kind in ("map", "maps"))
     plt.close(fig)
     print(f"wrote {args.output}")
     return 0

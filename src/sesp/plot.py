@@ -35,6 +35,7 @@ __all__ = [
     "orientation_key",
     "map_legend_handles",
     "class_map",
+    "save_figure",
 ]
 
 PHI_CMAP = "twilight"
@@ -535,6 +536,20 @@ def _product(ds, dims):
     return itertools.product(*(ds[d].values for d in dims))
 
 
+def save_figure(fig, path, *, dpi: float = 150, palette: bool = False):
+    """Save ``fig`` (tight bounding box). ``palette``: a PNG of scattered dots is stored with a 256-colour
+    palette, which keeps every dot's colour to within a palette step and makes the file several times smaller."""
+    path = Path(path)
+    fig.savefig(path, dpi=dpi, bbox_inches="tight")
+    if palette and path.suffix.lower() == ".png":
+        from PIL import Image
+
+        with Image.open(path) as image:
+            quantized = image.convert("RGB").quantize(colors=256, dither=Image.Dither.NONE)
+        quantized.save(path, optimize=True)
+    return path
+
+
 def render_figures(results, out, *, fmt: str = "png", dpi: float = 150) -> dict:
     """Render the paper's figure set from the shipped sweeps' outputs.
 
@@ -554,7 +569,7 @@ def render_figures(results, out, *, fmt: str = "png", dpi: float = 150) -> dict:
             outcome[target.name] = f"no {source} (run: sesp sweep sweeps/{sweep}.toml)"
             continue
         fig = figure(kind, None if source is None else load(source))
-        fig.savefig(target, dpi=dpi, bbox_inches="tight")
+        save_figure(fig, target, dpi=dpi, palette=kind == "maps")
         plt.close(fig)
         outcome[target.name] = target
     return outcome
