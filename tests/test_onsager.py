@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sesp import Grid, Polyline, SeSP, analyze, convex_excluded_area, excluded_area, scan, shifted_excluded_area
+from sesp import Grid, Polyline, SeSP, analyze, convex_excluded_area, shifted_excluded_area
 from sesp.onsager import (
     contact_density,
     entangled_neighbours,
@@ -59,10 +59,14 @@ def test_needles_scanned_give_the_onsager_nematic_bifurcation():
 
 def test_rings_are_never_unstable():
     ring = _ring(0.8)
-    area = excluded_area(scan(ring, Grid(384, nphi=32)), by="phi")
+    area = shifted_excluded_area(ring, Grid(384, nphi=32))  # shifted: the fixed lattice's bias is shared by all φ
     assert float(second_virial(area)) == pytest.approx(2 * math.pi * 0.8**2, rel=1e-3)
     spectrum = orientational_spectrum(area, 8)
     assert np.all(np.abs(spectrum.a.sel(k=slice(1, None))) < 1e-3 * float(spectrum.a.sel(k=0)))
+    higher = spectrum.sel(k=slice(1, 7))  # error bars are given for k < nphi / 4
+    assert np.all(np.abs(higher.a) <= 3 * higher.a_error)  # the exact 0 lies within three error bars
+    exact_a0 = 2 * 4 * math.pi * 0.8**2 * (1 - 1e-4)  # the 256-gon's A_ex sits ~1e-4 below the circle's
+    assert abs(float(spectrum.a.sel(k=0)) - exact_a0) <= float(spectrum.a_error.sel(k=0)) + 2e-4 * exact_a0
     assert int(instabilities(area).leading_order) == 0
 
 
@@ -72,6 +76,8 @@ def test_closed_convex_b2_is_half_of_2a_plus_p2_over_2pi(n):
     area = shifted_excluded_area(particle, Grid(256, nphi=64), segments=256)
     exact = convex_excluded_area(particle.polyline(256)) / 2
     assert float(second_virial(area)) == pytest.approx(exact, rel=1e-3)
+    spectrum = orientational_spectrum(area, 4)  # B2 = a0/4: its bar covers the exact value
+    assert abs(float(spectrum.a.sel(k=0)) / 4 - exact) <= float(spectrum.a_error.sel(k=0)) / 4
 
 
 @pytest.mark.parametrize("radius", [0.8, 1.25])

@@ -23,7 +23,9 @@ bar of each coefficient combines two parts:
   caller, or by default estimated from the data as the robust scatter of the
   second differences of A_ex(φ) (1.4826 · median |Δ²A| / √6), which measures
   the lattice noise of grid results and is negligible for smooth exact
-  samples. A bias shared by every φ (the fixed lattice's) is not seen by
+  samples. Where A_ex(−φ) is an exact copy of A_ex(φ) (mirror-symmetric
+  pairs: only half the slices are computed) the propagated part is widened
+  by √2. A bias shared by every φ (the fixed lattice's) is not seen by
   either part: use shifted lattices (:func:`sesp.shifted_excluded_area`) for
   spectra.
 
@@ -82,6 +84,12 @@ def noise_estimate(excluded_area: xr.DataArray) -> xr.DataArray:
     return (1.4826 / math.sqrt(6)) * abs(second).median("phi")
 
 
+def _mirrored(excluded_area: xr.DataArray) -> bool:
+    """Whether A_ex(φ_{nphi−k}) repeats A_ex(φ_k) exactly (mirror-symmetric pairs compute only half)."""
+    values = excluded_area.transpose("phi", ...).values
+    return bool(np.array_equal(values[1:], values[1:][::-1]))
+
+
 def _coefficients(values: xr.DataArray, phi, order: int, trig) -> xr.DataArray:
     """(1/π) ∫ values · trig(kφ) dφ by the rectangle rule, k = 0..order, as a DataArray over k."""
     k = np.arange(order + 1)
@@ -133,6 +141,8 @@ def orientational_spectrum(excluded_area: xr.DataArray, order: int = 8, *, error
             k = np.arange(order + 1)
             basis = xr.DataArray(trig(np.outer(k, phi)) ** 2, dims=("k", "phi"), coords={"k": k})
             propagated = np.sqrt((xr.DataArray(per_phi) ** 2 * basis).sum("phi")) * (2.0 / len(phi))
+            if _mirrored(excluded_area):  # A(−φ) is a copy of A(φ): half as many independent errors
+                propagated = propagated * math.sqrt(2.0)
         out[name] = coeff.assign_attrs(units="b^2", long_name=f"{'cosine' if name == 'a' else 'sine'} coefficient")
         out[f"{name}_error"] = np.sqrt(quadrature**2 + propagated**2).assign_attrs(
             units="b^2", long_name=f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)"
