@@ -46,3 +46,15 @@ def test_memory_refused_before_allocation():
     with pytest.raises(MemoryError, match="memory limit"):
         g.check_memory(limit=1 << 30)
     assert g.nbytes(("allowed", "crossings")) == 3 * 4096**3
+
+
+def test_box_limits_and_a_truncating_box_is_warned():
+    import pytest
+
+    from sesp import SeSP, scan
+    from sesp.field import TruncatedBoxWarning
+
+    with pytest.raises(ValueError, match="half_width must be in"):
+        Grid(half_width=1e300)
+    with pytest.warns(TruncatedBoxWarning, match="truncated"):
+        scan(SeSP(), Grid(8, nphi=2, half_width=0.1), segments=8)

@@ -132,3 +132,21 @@ def test_vertices_satisfy_the_superellipse_equation(n):
     v = p.polyline(256).vertices
     residual = np.abs(np.abs(v[:, 0] / 1.4) ** n + np.abs(v[:, 1]) ** n - 1)
     assert residual.max() < (1e-7 if n >= 8 else 1e-12)
+
+
+@pytest.mark.parametrize(
+    "make, word",
+    [
+        (lambda: Polyline([[0.0, 0.0], [1e300, 0.0]]), "must lie within"),
+        (lambda: Polyline([[0.0, 0.0], [1e-170, 0.0], [1.0, 0.0]]), "coincide"),
+        (lambda: Polyline([[0.0, 0.0], [1.0, 0.0]], thickness=1e9), "thickness"),
+        (lambda: SeSP(aspect=1e200), "aspect must be in"),
+        (lambda: SeSP(aspect=1e-200), "aspect must be in"),
+        (lambda: SeSP(n=True), "n must be"),
+        (lambda: SeSP(thickness=float("inf")), "thickness"),
+    ],
+)
+def test_extreme_magnitudes_are_refused_on_input(make, word):
+    """Outside the stated valid range (lengths up to 1e6 b, segments longer than 1e-9 of the size) sesp refuses."""
+    with pytest.raises(ValueError, match=word):
+        make()

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 __all__ = [
+    "check_range",
     "check_nonnegative",
     "check_positive",
     "check_count",
@@ -28,6 +29,21 @@ def check_positive(name: str, value) -> float:
     value = float(value)
     if not math.isfinite(value) or value <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+# Lengths sesp accepts, in b: the arithmetic of the kernels (cross products of coordinates, tolerances relative to
+# the pair's size) keeps its precision over this range; beyond it results would silently lose digits.
+MAX_LENGTH = 1e6
+# Shortest segment relative to the particle's size: shorter ones are rounding noise, not geometry.
+MIN_SEGMENT_RATIO = 1e-9
+
+
+def check_range(name: str, value, low: float, high: float, unit: str = "") -> float:
+    """A finite number in [low, high]."""
+    value = check_positive(name, value) if low > 0 else check_nonnegative(name, value)
+    if not low <= value <= high:
+        raise ValueError(f"{name} must be in [{low:g}, {high:g}]{unit}, got {value!r}")
     return value
 
 

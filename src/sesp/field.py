@@ -10,6 +10,7 @@ placements), kept as a baseline and cross-check.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +25,17 @@ from .progress import progress_bar
 from .reductions import StoredField
 from .shape import DEFAULT_SEGMENTS
 
-__all__ = ["scan", "reduce", "iter_slices", "Slices", "resolve_grid", "computed_slices", "monte_carlo", "ENGINES"]
+__all__ = [
+    "TruncatedBoxWarning",
+    "scan",
+    "reduce",
+    "iter_slices",
+    "Slices",
+    "resolve_grid",
+    "computed_slices",
+    "monte_carlo",
+    "ENGINES",
+]
 
 ENGINES = overlap.ENGINES
 
@@ -43,9 +54,26 @@ class Slices:
     entangled: np.ndarray | None = None
 
 
+class TruncatedBoxWarning(UserWarning):
+    """The grid's box is smaller than the reach of the pair: excluded positions outside it are not counted."""
+
+
 def resolve_grid(pair: Pair, grid: Grid | None) -> Grid:
-    """``grid`` (default ``Grid()``) with its box set from the pair's reach if unset."""
-    return (grid if grid is not None else Grid()).resolve(pair.reach)
+    """``grid`` (default ``Grid()``) with its box set from the pair's reach if unset.
+
+    A box given smaller than the reach r₁ + r₂ + contact truncates the excluded
+    set (A_ex comes out too small): that is warned about, not refused, since
+    a zoomed map is a legitimate use.
+    """
+    resolved = (grid if grid is not None else Grid()).resolve(pair.reach)
+    if resolved.half_width < pair.reach:
+        warnings.warn(
+            f"grid half_width {resolved.half_width:g} b is smaller than the pair's reach {pair.reach:g} b: "
+            "positions outside the box are not scanned, so A_ex is truncated",
+            TruncatedBoxWarning,
+            stacklevel=3,
+        )
+    return resolved
 
 
 def mirrored(pair: Pair, engine: str) -> bool:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .checks import check_count, check_positive
+from .checks import MAX_LENGTH, check_count, check_range
 
 __all__ = ["Grid", "available_memory"]
 
@@ -65,7 +65,7 @@ class Grid:
         object.__setattr__(self, "ny", ny)
         object.__setattr__(self, "nphi", check_count("nphi", self.nphi, 1, MAX_CELLS_PER_AXIS))
         if self.half_width is not None:
-            object.__setattr__(self, "half_width", check_positive("half_width", self.half_width))
+            object.__setattr__(self, "half_width", check_range("half_width", self.half_width, 1e-9, MAX_LENGTH, " b"))
 
     @property
     def states(self) -> int:
