@@ -166,6 +166,8 @@ def allowed_map(
     ax = _axes(ax)
     x, y = ds.x.values, ds.y.values
     extent = (x[0] - (x[1] - x[0]) / 2, x[-1] + (x[1] - x[0]) / 2, y[0] - (y[1] - y[0]) / 2, y[-1] + (y[1] - y[0]) / 2)
+    if outlines and "classes" not in ds and "allowed" in ds:  # a plain scan: classes from its field
+        ds = ds.assign(classes=position_summary(ds).classes)
     if style == "dots":
         if "allowed" not in ds:
             raise ValueError("style='dots' needs the allowed field (keep 'allowed' in the sweep)")
@@ -199,11 +201,11 @@ def allowed_map(
         draw_particle(shape, ax, color="k", lw=2)
     ax.set(xlim=extent[:2], ylim=extent[2:], xlabel=r"$x$ ($b$)", ylabel=r"$y$ ($b$)", aspect="equal")
     if colorbar:
-        key = ax.inset_axes([1.06, 0.55, 0.3, 0.3])
+        key = ax.inset_axes([1.06, 0.55, 0.3, 0.3] if style == "raster" else [1.06, 0.5, 0.05, 0.45])
         if style == "raster":
             orientation_key(key)
         else:
-            _phi_colorbar(ax.figure, art, key)
+            _phi_colorbar(ax.figure, art, cax=key)
         if outlines and classes is not None:
             ax.legend(handles=map_legend_handles(style), loc="upper left", bbox_to_anchor=(1.02, 0.45),
                       fontsize=7, frameon=False)  # fmt: skip
@@ -264,8 +266,9 @@ def orientation_key(ax):
     return ax
 
 
-def _phi_colorbar(fig, mappable, cax):
-    bar = fig.colorbar(mappable, cax=cax, ticks=np.arange(5) * np.pi / 2)
+def _phi_colorbar(fig, mappable, **where):
+    """A colour bar of φ in radians with ticks at multiples of π/2; ``where`` is ``cax=`` or ``ax=``, ``shrink=``."""
+    bar = fig.colorbar(mappable, ticks=np.arange(5) * np.pi / 2, **where)
     bar.ax.set_yticklabels(["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"])
     bar.set_label(r"$\phi$ (rad)")
     return bar
@@ -525,9 +528,7 @@ def map_grid(ds: xr.Dataset, *, style="dots", fig=None):
         orientation_key(fig.add_subplot(grid[0, cols]))
     else:
         sm = plt.cm.ScalarMappable(cmap=PHI_CMAP, norm=plt.Normalize(0, 2 * np.pi))
-        bar = fig.colorbar(sm, ax=axes, shrink=0.6, ticks=np.arange(5) * np.pi / 2)
-        bar.ax.set_yticklabels(["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"])
-        bar.set_label(r"$\phi$ (rad)")
+        _phi_colorbar(fig, sm, ax=axes, shrink=0.6)
     fig.legend(handles=map_legend_handles(style), loc="outside lower center", ncols=5, fontsize=7, frameon=False)
     return fig
 

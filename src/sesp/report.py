@@ -117,7 +117,7 @@ def describe(ds) -> str:
     """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo)."""
     attrs = ds.attrs
     kind = format_of(ds)
-    lines = [f"sesp {kind} written by sesp {attrs.get('sesp_version')}"]
+    lines = [f"{kind} file written by sesp {attrs.get('sesp_version')}"]
     if "particle_kind" in attrs:
         lines += [_particle_line(attrs, p) for p in ("particle", "other")]
     if kind == "sesp.sweep":

@@ -67,7 +67,7 @@ import numpy as np
 import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep
-from .dataset import base_attrs, parameter_attrs
+from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
 from .grid import Grid, available_memory
 from .io import load, save
 from .pair import Pair
@@ -79,7 +79,6 @@ __all__ = ["SweepSpec", "SweepPoint", "load_spec", "run", "collect", "compute_po
 
 log = logging.getLogger(__name__)
 
-SHAPE_KEYS = ("n", "m", "aspect", "opening")
 SCHEMA = {
     "sweep": {"name": str, "output": str, "angles": str},
     "particle": {
