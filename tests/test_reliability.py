@@ -1,5 +1,6 @@
 """Faults survived and inputs refused: kills, disk full, read-only folders, concurrent runners, files."""
 
+import json
 import os
 import random
 import resource
@@ -228,3 +229,51 @@ def test_size_limits_are_checked_before_anything_is_created(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
     assert main(["scan", "--segments", "100000000", "-o", str(tmp_path / "x.nc")]) == 2
     assert "segments must be an integer in [1, 65536]" in capsys.readouterr().err
+
+
+MEASURE_PEAK = """
+import json, resource, sys, tracemalloc
+from sesp import Grid, SeSP, analyze, scan
+nx, nphi, keep = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3].split(",")
+fields = dict(crossings="crossings" in keep, entangled="entangled" in keep)
+from sesp.pair import Pair
+pair = Pair.of(SeSP(), None, segments=64)  # built outside the measurement: its resampling is not the pass
+tiny = Grid(8, nphi=2)
+analyze(pair, tiny, keep=keep) if sys.argv[4] == "analyze" else scan(pair, tiny, **fields)
+before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+tracemalloc.start()
+grid = Grid(nx, nphi=nphi)
+if sys.argv[4] == "analyze":
+    analyze(pair, grid, keep=keep)
+else:
+    scan(pair, grid, **fields)
+traced = tracemalloc.get_traced_memory()[1]
+rise = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - before
+print(json.dumps({"traced": traced, "rise": rise}))
+"""
+
+
+@pytest.mark.parametrize(
+    "nx, nphi, keep, how",
+    [
+        (1024, 1, "allowed", "scan"),  # one large slice: working buffers are several times the field
+        (1024, 1, "allowed,crossings,entangled", "scan"),
+        (384, 48, "allowed", "scan"),  # one chunk of slices and their mirror images
+        (512, 8, "excluded_area,classes,topology", "analyze"),
+        (384, 16, "allowed,entangled,classes", "analyze"),
+    ],
+)
+def test_memory_check_covers_the_measured_peak(nx, nphi, keep, how):
+    """The pre-check's estimate is above the peak a pass really reaches (traced numpy and resident memory),
+    so a limit just under the measured peak is refused, and it is not wildly above (a limit of 4x passes)."""
+    from sesp.analysis import check_memory
+
+    out = subprocess.run(
+        [sys.executable, "-c", MEASURE_PEAK, str(nx), str(nphi), keep, how],
+        capture_output=True, text=True, check=True, timeout=300,
+    )  # fmt: skip
+    peak = max(json.loads(out.stdout)["traced"], json.loads(out.stdout)["rise"])
+    grid = Grid(nx, nphi=nphi).resolve(2.0)
+    with pytest.raises(MemoryError, match="memory limit"):
+        check_memory(grid, keep.split(","), limit=peak - 1)
+    check_memory(grid, keep.split(","), limit=4 * peak)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .field import reduce, resolve_grid
+from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
 from .measures import closed_pair_excluded_area
 from .onsager import onsager_variables
@@ -21,12 +21,25 @@ from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
 from .topology import excluded_components
 
-__all__ = ["analyze", "KEEP", "COMPONENTS_KEPT"]
+__all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 
 KEEP = ("excluded_area", "classes", "topology", "allowed", "crossings", "entangled")
 FIELD_KEEP = ("allowed", "crossings", "entangled")
 COMPONENTS_KEPT = 4  # areas of the largest excluded components stored
 PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "classes")
+# Bytes per (x, y) position held by the position summary's running sums, its outputs and component labels.
+SUMMARY_BYTES_PER_POSITION = 64
+
+
+def check_memory(grid: Grid, keep, limit: int | None = None) -> None:
+    """Raise ``MemoryError`` before any work if an analysis keeping ``keep`` would not fit in ``limit`` bytes
+    (default half the available memory): stored fields, one chunk of working buffers, per-position sums."""
+    keep = check_keep(keep)
+    fields = tuple(k for k in FIELD_KEEP if k in keep)
+    computed = ("allowed",) + ("crossings",) * ("crossings" in keep)
+    computed += ("entangled",) * ("entangled" in keep or "classes" in keep)
+    per_position = SUMMARY_BYTES_PER_POSITION if ("classes" in keep or "topology" in keep) else 0
+    grid.check_memory(fields, limit, working_bytes(grid, computed, per_position))
 
 
 def check_keep(keep) -> tuple:
@@ -101,9 +114,9 @@ def analyze(
     pair = as_pair(particle, other, segments)
     grid = resolve_grid(pair, grid)
     fields = tuple(k for k in FIELD_KEEP if k in keep)
+    check_memory(grid, keep, memory_limit)
     reductions = []
     if fields:
-        grid.check_memory(fields, memory_limit)
         reductions.append(StoredField(fields))
     per_position = "classes" in keep or "topology" in keep
     reductions.append(PositionSummary(entangled="classes" in keep) if per_position else ExcludedAreaByPhi())

@@ -33,6 +33,7 @@ __all__ = [
     "Slices",
     "resolve_grid",
     "computed_slices",
+    "working_bytes",
     "monte_carlo",
     "ENGINES",
 ]
@@ -41,6 +42,10 @@ ENGINES = overlap.ENGINES
 
 # Working buffer for one chunk of orientations (uint16 counts), at most this.
 CHUNK_BYTES = 1 << 27
+
+# Bytes per state of one chunk that a pass holds while computing a field (counts, flags, hull field, mirror
+# copies), by field computed; an upper bound of the measured peak (tests/test_reliability.py).
+WORKING_BYTES_PER_STATE = {"allowed": 4, "crossings": 4, "entangled": 8}
 
 
 @dataclass(frozen=True)
@@ -95,6 +100,13 @@ def computed_slices(pair: Pair, grid: Grid, engine: str = "raster") -> int:
 def _phi_chunk(grid: Grid) -> int:
     per_slice = 2 * grid.nx * grid.ny
     return max(1, min(grid.nphi, CHUNK_BYTES // per_slice))
+
+
+def working_bytes(grid: Grid, computed=("allowed",), per_position: int = 0) -> int:
+    """Bytes a pass over ``grid`` holds besides its stored fields: one chunk of slices of the ``computed``
+    fields with their mirror images, and ``per_position`` bytes of running sums per (x, y)."""
+    per_state = sum(WORKING_BYTES_PER_STATE[f] for f in computed)
+    return grid.nx * grid.ny * (_phi_chunk(grid) * per_state + per_position)
 
 
 def _compute(pair: Pair, grid: Grid, k0, k1, engine, crossings, entangled) -> Slices:
@@ -247,7 +259,7 @@ def scan(
     pair = as_pair(particle, other, segments)
     grid = resolve_grid(pair, grid)
     fields = ("allowed",) + ("crossings",) * crossings + ("entangled",) * entangled
-    grid.check_memory(fields, memory_limit)
+    grid.check_memory(fields, memory_limit, working_bytes(grid, fields))
     return reduce(pair, grid, [StoredField(fields)], engine=engine, progress=progress)
 
 

@@ -76,17 +76,19 @@ class Grid:
         """Memory, in bytes, of the stored fields over the whole grid."""
         return self.states * sum(FIELD_BYTES[f] for f in fields)
 
-    def check_memory(self, fields=("allowed",), limit: int | None = None) -> None:
-        """Raise ``MemoryError`` before allocation if the fields would not fit.
+    def check_memory(self, fields=("allowed",), limit: int | None = None, working: int = 0) -> None:
+        """Raise ``MemoryError`` before allocation if the fields and ``working`` bytes would not fit.
 
-        ``limit`` defaults to half the memory available now.
+        ``limit`` defaults to half the memory available now; ``working`` is
+        what a pass holds besides the stored fields (:func:`sesp.field.working_bytes`).
         """
         limit = available_memory() // 2 if limit is None else int(limit)
-        need = self.nbytes(fields)
-        if need > limit:
+        stored = self.nbytes(fields)
+        if stored + working > limit:
+            what = f"{stored / 2**30:.2f} GiB for {', '.join(fields)} and " if fields else ""
             raise MemoryError(
-                f"grid nx={self.nx}, ny={self.ny}, nphi={self.nphi} needs {need / 2**30:.2f} GiB "
-                f"for {', '.join(fields)}, over the memory limit of {limit / 2**30:.2f} GiB: "
+                f"grid nx={self.nx}, ny={self.ny}, nphi={self.nphi} needs {what}{working / 2**30:.2f} GiB of "
+                f"working buffers, over the memory limit of {limit / 2**30:.2f} GiB: "
                 "use fewer cells or orientations, or a streaming reduction"
             )
 

@@ -66,9 +66,9 @@ import numba
 import numpy as np
 import xarray as xr
 
-from .analysis import KEEP, analyze, check_keep
+from .analysis import KEEP, analyze, check_keep, check_memory
 from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
-from .grid import Grid, available_memory
+from .grid import Grid
 from .io import load, save
 from .pair import Pair
 from .progress import progress_bar
@@ -382,10 +382,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
 def _check_values(path, spec: SweepSpec):
     """Build every particle and the grid once, naming the file on failure."""
     try:
-        grid = Grid(**spec.grid)
-        _check_working_memory(grid)
-        if "allowed" in spec.keep:
-            grid.check_memory([k for k in ("allowed", "crossings", "entangled") if k in spec.keep])
+        check_memory(Grid(**spec.grid), spec.keep)
         for point in spec.points():
             point.pair()
     except (ValueError, MemoryError) as err:
@@ -396,21 +393,6 @@ def _string(path, key, value) -> str:
     if not isinstance(value, str):
         raise SweepError(f"{path}: [sweep] {key} must be a string, got {value!r}")
     return value
-
-
-# Bytes per (x, y) position that a point's streaming reductions hold: one orientation's counts and flags,
-# the running sums of the position summary (three 8-byte arrays) and its outputs.
-WORKING_BYTES_PER_POSITION = 48
-
-
-def _check_working_memory(grid: Grid):
-    need = grid.nx * grid.ny * WORKING_BYTES_PER_POSITION
-    limit = available_memory() // 2
-    if need > limit:
-        raise MemoryError(
-            f"grid nx={grid.nx}, ny={grid.ny} needs about {need / 2**30:.1f} GiB of working memory per point, "
-            f"over the limit of {limit / 2**30:.1f} GiB: use fewer cells"
-        )
 
 
 def _check_name(path, name):
