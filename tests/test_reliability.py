@@ -35,9 +35,9 @@ def _digest(path) -> str:
     return content_digest(path)
 
 
-def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):
+def _sweep_process(path, workers=1, stderr=subprocess.DEVNULL, **kw):
     return subprocess.Popen(
-        [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1", *extra],
+        [sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", str(workers)],
         stdout=subprocess.DEVNULL,
         stderr=stderr,
         start_new_session=True,
@@ -45,29 +45,60 @@ def _sweep_process(path, *extra, stderr=subprocess.DEVNULL, **kw):
     )
 
 
+def _live_processes_of_session(sid: int) -> list[int]:
+    """Processes (zombies aside) in session ``sid``: a runner started with start_new_session and its workers."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue  # exited meanwhile
+        if int(fields[3]) == sid and fields[0] != "Z":
+            found.append(int(stat.parent.name))
+    return found
+
+
+def _wait_until_gone(sid: int, timeout: float = 30.0) -> list[int]:
+    deadline = time.monotonic() + timeout
+    while (left := _live_processes_of_session(sid)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    return left
+
+
 @pytest.mark.slow
-def test_sweep_survives_repeated_sigkill(tmp_path):
-    """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run."""
+@pytest.mark.parametrize("workers, kill", [(1, "group"), (2, "runner")])
+def test_sweep_survives_repeated_sigkill(tmp_path, workers, kill):
+    """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run.
+
+    With two workers only the runner's own PID is killed: its workers see it gone, remove the file they were
+    writing and exit, and the resource tracker follows, so no process of the session and no temporary is left.
+    """
     path = tmp_path / "s.toml"
     path.write_text(FAULT_SWEEP.format(out=tmp_path / "killed"))
     folder = tmp_path / "killed"
     rng = random.Random(7)
     kills = 0
     while kills < KILLS:
-        proc = _sweep_process(path)
-        time.sleep(rng.uniform(0.5, 4.0))
+        proc = _sweep_process(path, workers)
+        time.sleep(rng.uniform(0.5, 4.0) * workers)
         if proc.poll() is not None:
             break  # finished before this kill
-        os.killpg(proc.pid, signal.SIGKILL)
+        if kill == "group":
+            os.killpg(proc.pid, signal.SIGKILL)
+        else:
+            os.kill(proc.pid, signal.SIGKILL)
         proc.wait()
         kills += 1
+        assert _wait_until_gone(proc.pid) == []  # no worker, no resource tracker outlives the runner
+        if kill == "runner":
+            assert not list(folder.glob(".*.tmp"))  # the workers removed what they were writing
         for p in _point_files(folder):  # whatever is on disk is complete
             load(p)
     assert kills >= min(KILLS, 5)
     run(path, workers=1, progress=False)
     fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
     assert _digest(folder / "small.nc") == _digest(fresh)
-    assert not list(folder.glob(".*.lock"))
+    assert not list(folder.glob(".*.lock")) and not list(folder.glob(".*.tmp"))
 
 
 def _limit_file_size():

@@ -56,6 +56,7 @@ import multiprocessing
 import os
 import signal
 import tempfile
+import threading
 import time
 import tomllib
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -502,9 +503,20 @@ def _interrupted(signum, frame):
     raise KeyboardInterrupt
 
 
-def _init_worker(threads: int):
+def _init_worker(threads: int, runner: int):
     signal.signal(signal.SIGINT, _interrupted)
     numba.set_num_threads(max(1, threads))
+    threading.Thread(target=_stop_when_orphaned, args=(runner,), daemon=True, name="sesp-orphan-watch").start()
+
+
+def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
+    """In a worker: once the runner process is gone (killed by SIGKILL, say), stop as on Ctrl-C, which removes
+    the file being written and releases its lock, then exit. A worker never outlives its runner."""
+    while os.getppid() == runner:
+        time.sleep(poll)
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(grace)  # a kernel call finishes its slice before the interrupt is seen
+    os._exit(1)
 
 
 def _execute_local(todo, folder, workers, bar):
@@ -515,7 +527,7 @@ def _execute_local(todo, folder, workers, bar):
         return
     threads = max(1, (os.cpu_count() or 1) // workers)
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads,))
+    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads, os.getpid()))
     try:
         for future in as_completed([pool.submit(run_point, p, str(folder)) for p in todo]):
             future.result()
