@@ -19,8 +19,25 @@ from sesp.sweep import run
 from cases import SMALL, content_digest
 from cases import point_files as _point_files
 
-# Kills in the SIGKILL test: 20 by default (CI), 100 with SESP_FULL_FAULTS=1.
-KILLS = 100 if os.environ.get("SESP_FULL_FAULTS") else 20
+# The reduced counts run by default (CI); SESP_FULL_FAULTS=1 runs the full ones.
+FULL = bool(os.environ.get("SESP_FULL_FAULTS"))
+KILLS = 100 if FULL else 20  # SIGKILLs per case of the repeated-kill test
+FLIPS = 1000 if FULL else 60  # damaged copies of a file in the bit-flip test
+
+# A sesp scan with one bit of its header flipped: the netCDF/HDF5 library aborts (double free) when this file
+# is opened in-process with xarray; sesp must refuse it without dying.
+CRASHES_HDF5 = Path(__file__).parent / "data" / "crashes_hdf5.nc"
+
+LOAD_EACH = """
+import json, sys
+from sesp import SespFileError, load
+for path in json.loads(sys.argv[1]):
+    try:
+        load(path)
+        print("read", flush=True)
+    except SespFileError as err:
+        print("refused", str(err).replace("\\n", " "), flush=True)
+"""
 
 FAULT_SWEEP = (
     SMALL.replace("stop = 120, step = 30", "stop = 165, step = 5")
@@ -308,3 +325,79 @@ def test_memory_check_covers_the_measured_peak(nx, nphi, keep, how):
     with pytest.raises(MemoryError, match="memory limit"):
         check_memory(grid, keep.split(","), limit=peak - 1)
     check_memory(grid, keep.split(","), limit=4 * peak)
+
+
+def _load_each(paths) -> list[str]:
+    """Load every file in one subprocess; its output lines, after asserting that it did not die."""
+    out = subprocess.run(
+        [sys.executable, "-c", LOAD_EACH, json.dumps([str(p) for p in paths])],
+        capture_output=True, text=True, timeout=1200,
+    )  # fmt: skip
+    assert out.returncode == 0, f"the reading process died ({out.returncode}): {out.stderr[-500:]}"
+    lines = out.stdout.splitlines()
+    assert len(lines) == len(paths)
+    return lines
+
+
+def test_single_bit_flips_are_read_or_refused_never_fatal(tmp_path):
+    """FLIPS copies of a scan, each with one bit flipped (half in the header, half anywhere): each loads (the
+    bit was slack) or is refused with SespFileError; no other exception, no native crash."""
+    good = save(scan(SeSP(), Grid(16, nphi=4), segments=16), tmp_path / "good.nc").read_bytes()
+    rng = random.Random(11)
+    paths = []
+    for i in range(FLIPS):
+        data = bytearray(good)
+        at = rng.randrange(min(len(data), 4096) if i % 2 == 0 else len(data))
+        data[at] ^= 1 << rng.randrange(8)
+        paths.append(tmp_path / f"flip{i}.nc")
+        paths[-1].write_bytes(bytes(data))
+    lines = _load_each(paths + [CRASHES_HDF5])
+    assert all(line == "read" or line.startswith("refused") for line in lines)
+    assert sum(line.startswith("refused") for line in lines) > FLIPS // 4  # the damage was real
+    assert lines[-1].startswith("refused") and "not a readable netCDF file" in lines[-1]
+
+
+def test_a_file_that_crashes_the_library_is_one_line_in_the_cli():
+    out = subprocess.run(
+        [sys.executable, "-m", "sesp", "info", str(CRASHES_HDF5)], capture_output=True, text=True, timeout=120
+    )
+    assert out.returncode == 2 and "Traceback" not in out.stderr and "not a readable netCDF file" in out.stderr
+
+
+def test_huge_unstored_variable_is_refused_before_it_is_read(tmp_path):
+    """A tiny file declaring a 4 GiB variable that was never written (fill values) is refused from its
+    header: neither the probe nor the load allocates it."""
+    import netCDF4
+
+    path = tmp_path / "huge.nc"
+    with netCDF4.Dataset(path, "w") as nc:
+        for dim in ("phi", "y", "x"):
+            nc.createDimension(dim, 1600)
+        nc.createVariable("allowed", "u1", ("phi", "y", "x"), fill_value=1)
+        nc.setncatts({"sesp_format": "sesp.scan", "sesp_format_version": 1})
+    assert path.stat().st_size < 100_000
+    start = time.monotonic()
+    for isolate in (True, False):
+        with pytest.raises(SespFileError, match="more than a file of"):
+            load(path, isolate=isolate)
+    assert time.monotonic() - start < 30
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 2 * 2**20  # KiB: this process stayed under 2 GiB
+
+
+def test_sweep_resume_sets_a_damaged_point_aside_and_recomputes_it(tmp_path):
+    """A point file that crashes the library, met on resume: the runner survives, moves it aside, recomputes
+    the point; collect before that refuses it in one line."""
+    from sesp.sweep import SweepError, collect
+
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out"))
+    run(path, workers=1, progress=False)
+    victim = _point_files(tmp_path / "out")[3]
+    victim.write_bytes(CRASHES_HDF5.read_bytes())
+    with pytest.raises(SweepError, match="cannot be read"):
+        collect(tmp_path / "out")
+    proc = subprocess.run([sys.executable, "-m", "sesp", "-q", "sweep", str(path), "--workers", "1"], timeout=300)
+    assert proc.returncode == 0
+    assert victim.with_name(victim.name + ".damaged").is_file()
+    fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
+    assert _digest(tmp_path / "out" / "small.nc") == _digest(fresh)

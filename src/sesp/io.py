@@ -10,10 +10,12 @@ import os
 import tempfile
 from pathlib import Path
 
+import netCDF4
 import numpy as np
 import xarray as xr
 
 from .dataset import SespFileError, validate
+from .fileprobe import check_expansion, probe
 
 __all__ = ["save", "load", "SespFileError", "validate"]
 
@@ -55,29 +57,47 @@ def save(ds: xr.Dataset, path) -> Path:
 
 def _open(path: Path) -> xr.Dataset:
     try:
+        with netCDF4.Dataset(path) as nc:  # the header alone: refuse what would not fit before reading data
+            check_expansion(nc, path.stat().st_size)
         with xr.open_dataset(path, engine="netcdf4") as ds:
             return ds.load()
-    except (OSError, ValueError, RuntimeError, KeyError) as err:
-        raise SespFileError(f"{path}: not a readable netCDF file ({err})") from None
+    except Exception as err:  # a damaged file can make the library raise almost anything
+        raise SespFileError(f"{path}: not a readable netCDF file ({type(err).__name__}: {err})") from None
 
 
-def load(path) -> xr.Dataset:
+def load(path, *, isolate: bool = True) -> xr.Dataset:
     """Read a dataset written by :func:`save`, checking that it is a sesp file.
+
+    Parameters
+    ----------
+    path : path-like
+        The netCDF file.
+    isolate : bool
+        First read the file in a separate process (:mod:`sesp.fileprobe`, about 0.2 s), so that a damaged
+        file that crashes the netCDF/HDF5 library ends that process, not this one. Turn it off only for
+        files just written or already probed.
 
     Raises
     ------
     FileNotFoundError
         No such file.
     SespFileError
-        Not netCDF, not written by sesp, missing or malformed variables, or an
-        ``allowed`` field that does not match its recorded SHA-256.
+        Not netCDF, damaged, not written by sesp, variables larger than the file can hold, missing or
+        malformed variables, or a field that does not match its recorded SHA-256.
     """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
+    if isolate and (why := probe([path])[path]) is not None:
+        raise SespFileError(f"{path}: not a readable netCDF file ({why})")
     ds = _open(path)
     for name in ("allowed", "overlap"):
         if name in ds and ds[name].dtype != bool and ds[name].dtype.kind in "iu":
             if np.isin(ds[name].values, (0, 1)).all():
                 ds[name] = ds[name].astype(bool)
-    return validate(ds, path)
+    try:
+        return validate(ds, path)
+    except SespFileError:
+        raise
+    except Exception as err:  # attributes of the wrong type or shape in a damaged file
+        raise SespFileError(f"{path}: malformed sesp file ({type(err).__name__}: {err})") from None

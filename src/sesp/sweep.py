@@ -69,6 +69,7 @@ import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep, check_memory
 from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
+from .fileprobe import probe
 from .grid import Grid
 from .io import load, save
 from .pair import Pair
@@ -463,9 +464,12 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
     return str(path)
 
 
-def load_point(path: Path) -> xr.Dataset:
-    """A sweep point file, checked to be the point its name says: its recorded parameters hash to its name."""
-    ds = load(path)
+def load_point(path: Path, *, isolate: bool = True) -> xr.Dataset:
+    """A sweep point file, checked to be the point its name says: its recorded parameters hash to its name.
+
+    ``isolate`` as in :func:`sesp.load`: off only for files already probed or written by this sweep.
+    """
+    ds = load(path, isolate=isolate)
     try:
         recorded = json.loads(ds.attrs["point"])
         ok = ds.attrs["sesp_format"] == "sesp.point" and ds.attrs["point_hash"] == path.stem
@@ -481,11 +485,26 @@ def _finished(path: Path) -> bool:
     if not path.is_file():
         return False
     try:
-        load_point(path)
+        load_point(path, isolate=False)  # files from an earlier run were probed by set_aside_unreadable
         return True
     except (ValueError, OSError):
         log.warning("%s is unreadable or not its point, and will be recomputed", path)
         return False
+
+
+def set_aside_unreadable(folder: Path, points) -> list[Path]:
+    """Read every existing point file in one separate process (:func:`sesp.fileprobe.probe`); move each file
+    that fails there to ``<hash>.nc.damaged``, so that it is recomputed and never opened in this process, where
+    a damaged file could crash the netCDF/HDF5 library. Returns the files moved."""
+    existing = [folder / f"{p.hash}.nc" for p in points if (folder / f"{p.hash}.nc").is_file()]
+    moved = []
+    for path, why in probe(existing).items():
+        if why is not None:
+            aside = path.with_name(path.name + ".damaged")
+            os.replace(path, aside)
+            log.warning("%s cannot be read (%s); moved to %s, the point will be recomputed", path, why, aside.name)
+            moved.append(aside)
+    return moved
 
 
 def warm_up():
@@ -646,6 +665,7 @@ def run(
     folder = spec.output
     folder.mkdir(parents=True, exist_ok=True)
     write_manifest(spec, points, folder)
+    set_aside_unreadable(folder, points)
     todo = [p for p in points if not _finished(folder / f"{p.hash}.nc")]
     remove_stale_temporaries(folder, todo)  # left by a runner that was killed
     log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
@@ -726,11 +746,18 @@ def collect(folder) -> xr.Dataset:
             f"{folder}: {len(missing)} of {len(manifest['points'])} points are not computed yet; "
             "run the sweep again to finish them"
         )
+    unreadable = {p: why for p, why in probe(folder / f"{p['hash']}.nc" for p in manifest["points"]).items() if why}
+    if unreadable:
+        path, why = next(iter(unreadable.items()))
+        raise SweepError(
+            f"{path}: cannot be read ({why}); {len(unreadable)} point file(s) like it: run the sweep again, it"
+            " sets them aside and recomputes them"
+        )
     dims = manifest["dims"]
     shape = tuple(len(manifest["coords"][d]) for d in dims)
     arrays, first = {}, None
     for entry in manifest["points"]:
-        ds = load_point(folder / f"{entry['hash']}.nc")
+        ds = load_point(folder / f"{entry['hash']}.nc", isolate=False)  # probed above
         first = first if first is not None else ds
         for name, var in ds.data_vars.items():
             if name not in arrays:
