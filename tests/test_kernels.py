@@ -6,7 +6,7 @@ import shapely
 
 from sesp import Grid, Pair, SeSP
 from sesp.field import resolve_grid
-from sesp.kernels.overlap import crossings_at_states, in_pair_set, raster_slices, raster_slices_serial
+from sesp.kernels.overlap import crossings_at_states, in_pair_set, pair_meets, raster_slices, raster_slices_serial
 
 import naive
 from cases import SHAPES
@@ -48,16 +48,16 @@ def test_overlap_matches_shapely_intersects(i):
 
 def test_pair_predicate_closed_and_degenerate():
     d, f = (1.0, 0.0), (0.0, 1.0)
-    assert in_pair_set(0.0, 0.0, *d, *f, 1.0, 1.0, 0.0, 0.0)  # corner: touching counts
-    assert in_pair_set(1.0, 1.0, *d, *f, 1.0, 1.0, 0.0, 0.0)
-    assert not in_pair_set(1.0 + 1e-6, 0.5, *d, *f, 1.0, 1.0, 1e-9, 0.0)
+    assert in_pair_set(0.0, 0.0, *d, *f, 1.0, 1.0, 0.0)  # corner: touching counts
+    assert in_pair_set(1.0, 1.0, *d, *f, 1.0, 1.0, 0.0)
+    assert not in_pair_set(1.0 + 1e-6, 0.5, *d, *f, 1.0, 1.0, 1e-9)
     # parallel segments: the set is the segment [-1, 1] x {0}
-    assert in_pair_set(0.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
-    assert in_pair_set(-1.0, 1e-10, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
-    assert not in_pair_set(1.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
-    assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9, 0.0)
+    assert in_pair_set(0.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert in_pair_set(-1.0, 1e-10, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert not in_pair_set(1.5, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
+    assert not in_pair_set(0.5, 1e-6, 1.0, 0.0, -1.0, 0.0, 1.0, 1.0, 1e-9)
     # nearly parallel: no tolerance tail far along the segments
-    assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9, 0.0)
+    assert not in_pair_set(3.0, 0.0, 1.0, 0.0, -1.0, 1e-13, 1.0, 1.0, 1e-9)
 
 
 def test_parallel_and_serial_raster_kernels_agree():
@@ -74,7 +74,8 @@ def test_parallel_and_serial_raster_kernels_agree():
 
 
 def test_thick_pair_predicate_is_the_distance_to_the_parallelogram():
-    """Random points against the exact distance to {λd + μf} (shapely), with and without a contact distance."""
+    """Random points against the exact distance to {λd + μf} (shapely), with and without a contact distance:
+    segment 0 of v1 runs from 0 by d, segment 0 of b2 from 0 by −f, so c = 0 and t = w."""
     rng = np.random.default_rng(11)
     for _ in range(200):
         d, f = rng.normal(size=2), rng.normal(size=2)
@@ -87,5 +88,6 @@ def test_thick_pair_predicate_is_the_distance_to_the_parallelogram():
         distance = region.distance(shapely.Point(w))
         if abs(distance - contact) < 1e-9:
             continue
-        got = in_pair_set(w[0], w[1], *d, *f, np.hypot(*d), np.hypot(*f), 1e-12, contact)
+        v1, b2 = np.array([[0.0, 0.0], d]), np.array([[0.0, 0.0], -f])
+        got = pair_meets(v1, b2, 0, 0, w[0], w[1], np.hypot(*d), np.hypot(*f), 1e-12, contact)
         assert got == (distance <= contact), (d, f, w, contact, distance)

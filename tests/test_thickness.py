@@ -70,6 +70,20 @@ def test_raster_equals_direct_on_every_thick_state(case, nx):
     for name in ("crossings", "allowed", "entangled"):
         np.testing.assert_array_equal(fast[name].values, slow[name].values)
     assert fast.allowed.values.any() and not fast.allowed.values.all()
+    # overlap only: the raster marks crossings, then (end point, segment) pairs once each; the same states
+    only = scan(particle, grid, other=other, segments=24)
+    np.testing.assert_array_equal(only.allowed.values, slow.allowed.values)
+
+
+@pytest.mark.parametrize("case", range(len(THICK_CASES)))
+def test_overlap_only_raster_equals_direct_on_a_fine_thick_grid(case):
+    """Many nodes near the thick boundary: the two-phase raster (crossings, then near end points) against the
+    direct engine's segment-pair test."""
+    particle, other = THICK_CASES[case]
+    grid = Grid(81, nphi=5)
+    fast = scan(particle, grid, other=other, segments=24)
+    slow = scan(particle, grid, other=other, segments=24, engine="direct")
+    np.testing.assert_array_equal(fast.allowed.values, slow.allowed.values)
 
 
 def test_thick_overlap_is_the_curves_coming_closer_than_the_contact_distance():

@@ -8,15 +8,20 @@ Conventions shared by every kernel:
   from b_j by e_j. They meet at translation t exactly when t lies in the
   parallelogram P_ij = {c + λ d_i + μ f_j : λ, μ ∈ [0, 1]}, with c = a_i − b_j
   and f_j = −e_j (docs/design.md, Engines). Both engines evaluate that one predicate,
-  :func:`in_pair_set`, on the same floating-point inputs, so they agree state
+  :func:`pair_contains`, on the same floating-point inputs, so they agree state
   for state, including at ties and on degenerate (parallel) pairs.
 * Touching counts as meeting: the predicate accepts points within ``delta``
   of P_ij (closed sets, one tolerance for every engine).
 * Thick particles meet when their centre curves come within the contact
-  distance ``contact`` = (D₁ + D₂)/2: segments i and j are that close exactly
-  when t lies within ``contact`` of P_ij (P_ij dilated by a disk), so the
-  same parallelogram set-up serves, with the edge distances checked near its
-  boundary. ``contact`` = 0 takes the thin code path unchanged.
+  distance ``contact`` = (D₁ + D₂)/2. Two segments are that close exactly
+  when they cross or an end point of one lies within that distance of the
+  other (:func:`pair_meets`; geometrically, t lies within ``contact`` of
+  P_ij). Each (end point, segment) distance is computed by one function with
+  the same arguments whichever pair asks (:func:`vertex_near_segment`), so
+  the raster can mark crossings first and then visit each (end point,
+  segment) pair once (:func:`near_ends_slice`) and still agree with the
+  direct engine state for state. ``contact`` = 0 takes the thin code path
+  unchanged.
 * Parallel kernels run ``prange`` over φ (or over samples); each slice is
   written by one thread, so results do not depend on the thread count.
 """
@@ -50,48 +55,31 @@ def pair_geometry(v1, b2, i, j):
 
 
 @njit(**JIT)
-def pair_setup(dx, dy, fx, fy, dlen, flen, delta, contact):
+def pair_setup(dx, dy, fx, fy, dlen, flen, delta):
     """Per-pair constants of the membership test :func:`pair_contains`.
 
     With D = d × f and w = λ d + μ f: λ D = w × f and μ D = d × w. The sign
-    makes D >= 0; the tolerances turn "within delta (+ contact) of an edge"
-    into bounds on those cross products; (lo, hi) bound the projection of w
-    on d.
+    makes D >= 0; the tolerances turn "within delta of an edge" into bounds
+    on those cross products; (lo, hi) bound the projection of w on d.
     """
     big_d = dx * fy - dy * fx
     sign = 1.0 if big_d >= 0.0 else -1.0
     inv_dlen = 1.0 / dlen
     q = (fx * dx + fy * dy) * inv_dlen
-    reach = delta + contact
-    lo = min(q, 0.0) - reach
-    hi = dlen + max(q, 0.0) + reach
-    return sign * big_d, sign, reach * flen, reach * dlen, inv_dlen, lo, hi
+    lo = min(q, 0.0) - delta
+    hi = dlen + max(q, 0.0) + delta
+    return sign * big_d, sign, delta * flen, delta * dlen, inv_dlen, lo, hi
 
 
 @njit(**JIT)
-def _near_edges(wx, wy, dx, dy, fx, fy, reach):
-    """Whether w lies within ``reach`` of an edge of {λ d + μ f : λ, μ ∈ [0, 1]}."""
-    r2 = reach * reach
-    return (
-        point_segment_distance2(wx, wy, 0.0, 0.0, dx, dy) <= r2
-        or point_segment_distance2(wx, wy, fx, fy, fx + dx, fy + dy) <= r2
-        or point_segment_distance2(wx, wy, 0.0, 0.0, fx, fy) <= r2
-        or point_segment_distance2(wx, wy, dx, dy, dx + fx, dy + fy) <= r2
-    )
-
-
-@njit(**JIT)
-def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact):
-    """True when w = t − c lies within delta + contact of {λ d + μ f : λ, μ ∈ [0, 1]}.
+def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi):
+    """True when w = t − c lies within delta of {λ d + μ f : λ, μ ∈ [0, 1]}: the thin segments i and j meet.
 
     The two strip tests bound the distance to each pair of opposite edges;
     the projection test on d bounds the extent along d, which keeps a
     (near-)degenerate parallelogram, i.e. two (nearly) parallel segments,
     from growing long tolerance tails: when d ∥ f the set is a segment and
-    the tests reduce to "within delta of it". For thin particles
-    (``contact`` = 0) they decide; for thick ones they only reject, and a
-    point that passes is in the set when it is in the thin parallelogram or
-    within delta + contact of one of its edges.
+    the tests reduce to "within delta of it".
     """
     u = sign * (wx * fy - wy * fx)
     if u < -tol_f or u > big_d + tol_f:
@@ -100,21 +88,49 @@ def pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, l
     if v < -tol_d or v > big_d + tol_d:
         return False
     p = (wx * dx + wy * dy) * inv_dlen
-    if p < lo or p > hi:
-        return False
-    if contact == 0.0:
-        return True
-    # strictly inside a proper parallelogram, or within delta + contact of its edges
-    # (a degenerate one, two parallel segments, is all edge)
-    inside = big_d > 0.0 and 0.0 <= u <= big_d and 0.0 <= v <= big_d
-    return inside or _near_edges(wx, wy, dx, dy, fx, fy, delta + contact)
+    return lo <= p <= hi
 
 
 @njit(**JIT)
-def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta, contact):
+def in_pair_set(wx, wy, dx, dy, fx, fy, dlen, flen, delta):
     """:func:`pair_contains` with its set-up: one pair, one point."""
-    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta, contact)
-    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact)
+    big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen, flen, delta)
+    return pair_contains(wx, wy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi)
+
+
+@njit(**JIT)
+def vertex_near_segment(px, py, s, k, reach2):
+    """Whether the point (px, py) lies within √reach2 of segment k (s[k]–s[k+1]) of the polyline ``s``.
+
+    Every engine evaluates a (vertex, segment) pair through this function with
+    the same arguments, whichever segment pair asks: the thick predicate then
+    has one value per state, and the engines agree bit for bit.
+    """
+    return point_segment_distance2(px, py, s[k, 0], s[k, 1], s[k + 1, 0], s[k + 1, 1]) <= reach2
+
+
+@njit(**JIT)
+def ends_near(v1, b2, i, j, tx, ty, reach2):
+    """Whether an end point of segment i of curve 1 or of segment j of curve 2 (moved by t) lies within
+    √reach2 of the other segment: with :func:`pair_contains` (the segments cross), segments within that
+    distance of each other."""
+    return (
+        vertex_near_segment(tx + b2[j, 0], ty + b2[j, 1], v1, i, reach2)
+        or vertex_near_segment(tx + b2[j + 1, 0], ty + b2[j + 1, 1], v1, i, reach2)
+        or vertex_near_segment(v1[i, 0] - tx, v1[i, 1] - ty, b2, j, reach2)
+        or vertex_near_segment(v1[i + 1, 0] - tx, v1[i + 1, 1] - ty, b2, j, reach2)
+    )
+
+
+@njit(**JIT)
+def pair_meets(v1, b2, i, j, tx, ty, dlen, flen, delta, contact):
+    """Segments i and j meet at translation t: they cross (within ``delta``), or, for thick particles, come
+    within the contact distance (an end point of one within delta + contact of the other)."""
+    cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
+    if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen, flen, delta):
+        return True
+    reach = delta + contact
+    return contact > 0.0 and ends_near(v1, b2, i, j, tx, ty, reach * reach)
 
 
 @njit(**JIT)
@@ -142,7 +158,7 @@ def crossings_at(v1, dlen, b2, flen, tx, ty, delta, contact, count):
             xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
             if tx < xmin or tx > xmax or ty < ymin or ty > ymax:
                 continue
-            if in_pair_set(tx - cx, ty - cy, dx, dy, fx, fy, dlen[i], flen[j], delta, contact):
+            if pair_meets(v1, b2, i, j, tx, ty, dlen[i], flen[j], delta, contact):
                 found += 1
                 if not count:
                     return found
@@ -180,6 +196,8 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out):
     marked is not tested again (only overlap, not the count, is wanted).
     """
     margin = MARGIN_FACTOR * delta + contact
+    reach = delta + contact
+    reach2 = reach * reach
     inv_hx = 1.0 / (xs[1] - xs[0])
     inv_hy = 1.0 / (ys[1] - ys[0])
     for j in range(b2.shape[0] - 1):
@@ -192,7 +210,7 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out):
             ix0, ix1 = index_range(xmin, xmax, xs[0], inv_hx, xs.shape[0])
             if ix0 > ix1:
                 continue
-            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta, contact)
+            big_d, sign, tol_f, tol_d, inv_dlen, lo, hi = pair_setup(dx, dy, fx, fy, dlen[i], flen[j], delta)
             for iy in range(iy0, iy1 + 1):
                 ty = ys[iy]
                 if ty < ymin or ty > ymax:
@@ -203,11 +221,89 @@ def raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out):
                         continue
                     if not count and out[iy, ix] != 0:
                         continue
-                    if pair_contains(
-                        tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi, delta, contact
-                    ):
+                    if pair_contains(tx - cx, ty - cy, dx, dy, fx, fy, big_d, sign, tol_f, tol_d, inv_dlen, lo, hi) or (
+                        contact > 0.0 and ends_near(v1, b2, i, j, tx, ty, reach2)
+                    ):  # pair_meets, with the pair's set-up hoisted out of the node loop
                         if out[iy, ix] < COUNT_MAX:
                             out[iy, ix] += 1
+
+
+@njit(**JIT)
+def free_node_table(out):
+    """Summed-area table of the nodes of ``out`` still zero: ``table[iy, ix]`` counts them in [0, iy) × [0, ix)."""
+    ny, nx = out.shape
+    table = np.zeros((ny + 1, nx + 1), dtype=np.int32)
+    for iy in range(ny):
+        row = 0
+        for ix in range(nx):
+            row += out[iy, ix] == 0
+            table[iy + 1, ix + 1] = table[iy, ix + 1] + row
+    return table
+
+
+@njit(**JIT)
+def any_free(table, iy0, iy1, ix0, ix1):
+    """Whether the box [iy0, iy1] × [ix0, ix1] of the table's field held a zero node."""
+    return table[iy1 + 1, ix1 + 1] - table[iy0, ix1 + 1] - table[iy1 + 1, ix0] + table[iy0, ix0] > 0
+
+
+@njit(**JIT)
+def mark_near(px, py, s, k, sign, xs, ys, bounds, reach2, out):
+    """Mark nodes t whose point p + sign·t lies within √reach2 of segment k of ``s`` (:func:`vertex_near_segment`
+    evaluated as every engine does); ``bounds`` = (iy0, iy1, ix0, ix1) of the candidate nodes."""
+    iy0, iy1, ix0, ix1 = bounds
+    for iy in range(iy0, iy1 + 1):
+        ty = ys[iy]
+        for ix in range(ix0, ix1 + 1):
+            if out[iy, ix] != 0:
+                continue
+            tx = xs[ix]
+            hit = (
+                vertex_near_segment(tx + px, ty + py, s, k, reach2)
+                if sign > 0.0
+                else vertex_near_segment(px - tx, py - ty, s, k, reach2)
+            )
+            if hit:
+                out[iy, ix] = 1
+
+
+@njit(**JIT)
+def near_ends_slice(v1, b2, xs, ys, delta, contact, out):
+    """Mark the nodes where an end point of one curve lies within delta + contact of a segment of the other.
+
+    With the crossings already marked this completes the thick overlap field: each (vertex, segment) pair is
+    visited once (a segment-pair raster would visit each twice), and one whose candidate box holds no
+    unmarked node after the crossings (deep inside the excluded set) is skipped.
+    """
+    table = free_node_table(out)
+    _near_ends_of(v1, b2, 1.0, xs, ys, delta, contact, table, out)  # vertices of curve 2 near segments of curve 1
+    _near_ends_of(b2, v1, -1.0, xs, ys, delta, contact, table, out)  # and the other way round
+
+
+@njit(**JIT)
+def _near_ends_of(s, p, sign, xs, ys, delta, contact, table, out):
+    """:func:`near_ends_slice` for the vertices of ``p`` (moved by sign·t) against the segments of ``s``."""
+    margin = MARGIN_FACTOR * delta + contact
+    reach = delta + contact
+    reach2 = reach * reach
+    inv_hx = 1.0 / (xs[1] - xs[0])
+    inv_hy = 1.0 / (ys[1] - ys[0])
+    for k in range(s.shape[0] - 1):
+        lox, hix = min(s[k, 0], s[k + 1, 0]), max(s[k, 0], s[k + 1, 0])
+        loy, hiy = min(s[k, 1], s[k + 1, 1]), max(s[k, 1], s[k + 1, 1])
+        for m in range(p.shape[0]):
+            # nodes t with p_m + t (sign > 0) or p_m − t (sign < 0) near segment k, widened by the margin
+            if sign > 0.0:
+                xmin, xmax, ymin, ymax = lox - p[m, 0], hix - p[m, 0], loy - p[m, 1], hiy - p[m, 1]
+            else:
+                xmin, xmax, ymin, ymax = p[m, 0] - hix, p[m, 0] - lox, p[m, 1] - hiy, p[m, 1] - loy
+            iy0, iy1 = index_range(ymin - margin, ymax + margin, ys[0], inv_hy, ys.shape[0])
+            if iy0 > iy1:
+                continue
+            ix0, ix1 = index_range(xmin - margin, xmax + margin, xs[0], inv_hx, xs.shape[0])
+            if ix0 > ix1 or not any_free(table, iy0, iy1, ix0, ix1):
+                continue
+            mark_near(p[m, 0], p[m, 1], s, k, sign, xs, ys, (iy0, iy1, ix0, ix1), reach2, out)
 
 
 @njit(**JIT)
@@ -217,7 +313,11 @@ def raster_phi(v1, dlen, v2, c, s, xs, ys, delta, contact, count, out):
     rotate(v2, c, s, b2)
     flen = np.empty(b2.shape[0] - 1)
     segment_lengths(b2, flen)
-    raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out)
+    if contact > 0.0 and not count:  # overlap only: crossings, then the ends within reach (the same predicate)
+        raster_slice(v1, dlen, b2, flen, xs, ys, delta, 0.0, False, out)
+        near_ends_slice(v1, b2, xs, ys, delta, contact, out)
+    else:
+        raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out)
 
 
 @njit(**JIT, parallel=True)
