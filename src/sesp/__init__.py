@@ -9,7 +9,7 @@ The public API is this module's ``__all__``; ``docs/design.md`` maps the
 modules behind it.
 """
 
-from . import onsager, plot, topology, version
+from . import exact, onsager, plot, topology, version
 from .analysis import analyze
 from .dataset import SespFileError, cell_area, grid_of, pair_of
 from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
@@ -22,7 +22,9 @@ from .measures import (
     excluded_area_error,
     kinematic_integral,
     normalized_excluded_area,
+    scanline_excluded_area,
     shifted_excluded_area,
+    smooth_excluded_area,
 )
 from .orientations import allowed_orientations, blocked_orientations
 from .pair import Pair
@@ -62,6 +64,8 @@ __all__ = [
     # measures
     "excluded_area",
     "excluded_area_error",
+    "scanline_excluded_area",
+    "smooth_excluded_area",
     "shifted_excluded_area",
     "normalized_excluded_area",
     "closed_excluded_area",
@@ -94,6 +98,7 @@ __all__ = [
     "cell_area",
     "describe",
     # modules
+    "exact",
     "onsager",
     "plot",
     "topology",

@@ -189,17 +189,20 @@ def direct_slices(v1, v2, cos_phi, sin_phi, xs, ys, delta, contact, reach, count
 
 
 @njit(**JIT)
+def raster_constants(xs, ys, delta, contact):
+    """(margin of the candidate boxes, squared contact reach, 1/dx, 1/dy) of a raster over (xs, ys)."""
+    reach = delta + contact
+    return MARGIN_FACTOR * delta + contact, reach * reach, 1.0 / (xs[1] - xs[0]), 1.0 / (ys[1] - ys[0])
+
+
+@njit(**JIT)
 def raster_slice(v1, dlen, b2, flen, xs, ys, delta, contact, count, out):
     """Minkowski raster of one orientation: add P_ij's nodes to ``out`` (ny, nx).
 
     ``out`` must be zero on entry. When ``count`` is False a node already
     marked is not tested again (only overlap, not the count, is wanted).
     """
-    margin = MARGIN_FACTOR * delta + contact
-    reach = delta + contact
-    reach2 = reach * reach
-    inv_hx = 1.0 / (xs[1] - xs[0])
-    inv_hy = 1.0 / (ys[1] - ys[0])
+    margin, reach2, inv_hx, inv_hy = raster_constants(xs, ys, delta, contact)
     for j in range(b2.shape[0] - 1):
         for i in range(v1.shape[0] - 1):
             cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
@@ -283,11 +286,7 @@ def near_ends_slice(v1, b2, xs, ys, delta, contact, out):
 @njit(**JIT)
 def _near_ends_of(s, p, sign, xs, ys, delta, contact, table, out):
     """:func:`near_ends_slice` for the vertices of ``p`` (moved by sign·t) against the segments of ``s``."""
-    margin = MARGIN_FACTOR * delta + contact
-    reach = delta + contact
-    reach2 = reach * reach
-    inv_hx = 1.0 / (xs[1] - xs[0])
-    inv_hy = 1.0 / (ys[1] - ys[0])
+    margin, reach2, inv_hx, inv_hy = raster_constants(xs, ys, delta, contact)
     for k in range(s.shape[0] - 1):
         lox, hix = min(s[k, 0], s[k + 1, 0]), max(s[k, 0], s[k + 1, 0])
         loy, hiy = min(s[k, 1], s[k + 1, 1]), max(s[k, 1], s[k + 1, 1])
