@@ -88,7 +88,8 @@ def test_sweep_survives_repeated_sigkill(tmp_path, workers, kill):
     """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run.
 
     With two workers only the runner's own PID is killed: its workers see it gone, remove the file they were
-    writing and exit, and the resource tracker follows, so no process of the session and no temporary is left.
+    writing and exit, and the resource tracker follows, so no process of the session and no point temporary
+    is left (the runner's own, of the manifest or the collected file, are removed by the next run).
     """
     path = tmp_path / "s.toml"
     path.write_text(FAULT_SWEEP.format(out=tmp_path / "killed"))
@@ -107,8 +108,8 @@ def test_sweep_survives_repeated_sigkill(tmp_path, workers, kill):
         proc.wait()
         kills += 1
         assert _wait_until_gone(proc.pid) == []  # no worker, no resource tracker outlives the runner
-        if kill == "runner":
-            assert not list(folder.glob(".*.tmp"))  # the workers removed what they were writing
+        if kill == "runner":  # point files are written by the workers, and they removed what they were writing
+            assert not list(folder.glob(f".{'[0-9a-f]' * 16}.nc.*.tmp"))
         for p in _point_files(folder):  # whatever is on disk is complete
             load(p)
     assert kills >= min(KILLS, 5)
@@ -401,3 +402,18 @@ def test_sweep_resume_sets_a_damaged_point_aside_and_recomputes_it(tmp_path):
     assert victim.with_name(victim.name + ".damaged").is_file()
     fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
     assert _digest(tmp_path / "out" / "small.nc") == _digest(fresh)
+
+
+def test_a_rerun_removes_the_temporaries_a_killed_runner_owned(tmp_path):
+    """A runner killed while writing the manifest, the collected file or a point leaves temporaries; the next
+    run removes them all (the folder's flock tells them from a concurrent writer's)."""
+    path = tmp_path / "s.toml"
+    path.write_text(SMALL.format(out=tmp_path / "out"))
+    run(path, workers=1, progress=False)
+    point = _point_files(tmp_path / "out")[0]
+    left = [".sweep.json.x1.tmp", ".small.nc.x2.tmp", f".{point.name}.x3.tmp"]
+    for name in left:
+        (tmp_path / "out" / name).write_text("half")
+    point.unlink()  # so that the point is computed again, and its stale temporary found
+    run(path, workers=1, progress=False)
+    assert not list((tmp_path / "out").glob(".*.tmp"))

@@ -46,6 +46,7 @@ Ranges are ``{start, stop, step}`` or ``{start, stop, num}``.
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import hashlib
 import itertools
@@ -539,11 +540,14 @@ def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
 
 
 def _execute_local(todo, folder, workers, bar):
+    """Compute ``todo`` in this process (``workers`` <= 1) or in worker processes, which then write every
+    point file: a runner killed by SIGKILL leaves none half-written, its workers remove theirs."""
     if workers <= 1:
         for point in todo:
             run_point(point, str(folder))
             bar.update()
         return
+    workers = min(workers, len(todo))
     threads = max(1, (os.cpu_count() or 1) // workers)
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
     pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads, os.getpid()))
@@ -556,6 +560,25 @@ def _execute_local(todo, folder, workers, bar):
         remove_stale_temporaries(folder, todo)
         raise
     pool.shutdown()
+
+
+@contextlib.contextmanager
+def folder_lock(folder: Path):
+    """Hold an ``flock`` on the sweep folder itself while writing the files a runner owns (the manifest, the
+    collected file), so that a runner can tell their temporaries from those of a concurrent writer."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def remove_runner_temporaries(folder: Path, name: str):
+    """Remove the temporaries of the manifest and the collected file left by a runner that was killed."""
+    with folder_lock(folder):
+        for stale in [*folder.glob(f".{MANIFEST}.*.tmp"), *folder.glob(f".{name}.nc.*.tmp")]:
+            stale.unlink(missing_ok=True)
 
 
 def remove_stale_temporaries(folder, points):
@@ -617,6 +640,11 @@ def write_manifest(spec: SweepSpec, points: list[dict], folder: Path):
         "keep": list(spec.keep),
         "source": spec.source,
     }
+    with folder_lock(folder):
+        _write_manifest(folder, manifest)
+
+
+def _write_manifest(folder: Path, manifest: dict):
     fd, tmp = tempfile.mkstemp(prefix=f".{MANIFEST}.", suffix=".tmp", dir=folder)  # unique: runners may race
     try:
         with os.fdopen(fd, "w") as handle:
@@ -665,6 +693,7 @@ def run(
     folder = spec.output
     folder.mkdir(parents=True, exist_ok=True)
     write_manifest(spec, points, folder)
+    remove_runner_temporaries(folder, spec.name)
     set_aside_unreadable(folder, points)
     todo = [p for p in points if not _finished(folder / f"{p.hash}.nc")]
     remove_stale_temporaries(folder, todo)  # left by a runner that was killed
@@ -676,13 +705,13 @@ def run(
             if scheduler:
                 _execute_dask(todo, folder, scheduler, bar)
             else:
-                workers = min(workers or os.cpu_count() or 1, len(todo))
-                _execute_local(todo, folder, workers, bar)
+                _execute_local(todo, folder, workers or os.cpu_count() or 1, bar)
     _wait_for_others(points, folder)
     if not collect_result:
         return None
     target = folder / f"{spec.name}.nc"
-    save(collect(folder), target)
+    with folder_lock(folder):
+        save(collect(folder), target)
     return target
 
 
