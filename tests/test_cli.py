@@ -1,3 +1,5 @@
+import json
+import math
 import subprocess
 import sys
 
@@ -143,3 +145,13 @@ def test_collect_on_a_broken_manifest_is_one_line(manifest, tmp_path, capsys):
     assert main(["collect", str(tmp_path), "-o", str(tmp_path / "c.nc")]) == 2
     err = capsys.readouterr().err
     assert "sweep.json" in err and "Traceback" not in err and err.count("\n") == 1
+
+
+def test_area_of_closed_circles_is_four_pi_within_its_error_bar(capsys):
+    """`sesp area --smooth --json` on the closed circle: 4π, within the printed error bar."""
+    code = main(["area", "--opening", "0", "--segments", "128", "--nphi", "8", "--rows", "256", "--smooth", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and len(out["excluded_area"]) == 8
+    assert abs(out["mean_excluded_area"] - 4 * math.pi) <= out["mean_excluded_area_error"]
+    assert out["mean_excluded_area"] == pytest.approx(4 * math.pi, rel=1e-4)
+    assert main(["area", "--rows", "100"]) == 2 and "multiple of 8" in capsys.readouterr().err

@@ -81,6 +81,46 @@ def _cmd_scan(args) -> int:
     return 0
 
 
+def _add_area(sub):
+    p = sub.add_parser("area", help="excluded area A_ex(φ) and its mean, with error bars, by scanlines")
+    _add_shape_args(p)
+    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
+    p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
+    p.add_argument("--rows", type=int, default=128, help="line spacings across the excluded set, a multiple of 8")
+    p.add_argument(
+        "--smooth", action="store_true", help="the smooth curve's A_ex: extrapolate over N, N/2, N/4 segments"
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object (per-φ values included)")
+    p.set_defaults(func=_cmd_area)
+
+
+def _cmd_area(args) -> int:
+    import json
+
+    from .measures import scanline_excluded_area, smooth_excluded_area
+
+    particle = _shape_from_args(args, args.opening)
+    how = smooth_excluded_area if args.smooth else scanline_excluded_area
+    _announce_compile()
+    ds = how(particle, segments=args.segments, nphi=args.nphi, rows=args.rows)
+    mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+    if args.json:
+        result = {
+            "opening_deg": args.opening,
+            "smooth": args.smooth,
+            "mean_excluded_area": mean,
+            "mean_excluded_area_error": error,
+            "phi": ds.phi.values.tolist(),
+            "excluded_area": ds.excluded_area.values.tolist(),
+            "excluded_area_error": ds.excluded_area_error.values.tolist(),
+        }
+        print(json.dumps(result))
+        return 0
+    what = "smooth curve" if args.smooth else f"polygon of {args.segments} segments"
+    print(f"A_ex = {mean:.7f} ± {error:.1e} b² (mean over {args.nphi} orientations; {what}; scanlines)")
+    return 0
+
+
 def _add_info(sub):
     p = sub.add_parser("info", help="print the parameters and excluded area of a saved scan")
     p.add_argument("file", type=Path, help="any file sesp wrote: scan, summary, sweep point or collected sweep")
@@ -354,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMANDS = [_add_scan, _add_info, _add_topology, _add_sweep, _add_collect, _add_plot, _add_figures]
+COMMANDS = [_add_scan, _add_area, _add_info, _add_topology, _add_sweep, _add_collect, _add_plot, _add_figures]
 
 
 def main(argv=None) -> int:
