@@ -218,10 +218,10 @@ def scanline_excluded_area(
     xarray.Dataset
         ``excluded_area(phi)`` and ``excluded_area_error(phi)``, and the orientation averages
         ``mean_excluded_area`` and ``mean_excluded_area_error`` (b²). The error of each A_ex(φ) is
-        |R(h) − R(2h)| + |R(2h) − R(4h)| for the extrapolations R; against the exact A_ex(φ) of closed
-        convex superellipses it covers 98 % of the errors (``benchmarks/accuracy.py`` prints the
-        table). The average's error adds the mean per-φ error and the φ-quadrature error (half the
-        difference between the averages over even and odd k).
+        |R(h) − R(2h)| + |R(2h) − R(4h)| for the extrapolations R (``benchmarks/accuracy.py`` prints how
+        often it covers the actual error). The average's error is the same formula applied to the
+        averages of R, plus the φ-quadrature error (half the difference between the averages over even
+        and odd k).
     """
     nphi = check_count("nphi", nphi, 1, 1 << 20)
     rows = check_count("rows", rows, 8, 1 << 20)
@@ -238,26 +238,35 @@ def scanline_excluded_area(
     trapezoid = [lengths[:, ::m].sum(axis=1) * m * h for m in (1, 2, 4, 8)]
     q = 2.0**SCANLINE_ORDER
     extrapolated = [(q * fine - coarse) / (q - 1) for fine, coarse in zip(trapezoid, trapezoid[1:], strict=False)]
-    area, error = np.empty(nphi), np.empty(nphi)
-    area[:stop] = extrapolated[0]
-    error[:stop] = np.abs(extrapolated[0] - extrapolated[1]) + np.abs(extrapolated[1] - extrapolated[2])
-    if stop < nphi:  # A_ex(−φ) = A_ex(φ) for a mirror-symmetric pair
-        area[stop:], error[stop:] = area[1 : nphi - stop + 1][::-1], error[1 : nphi - stop + 1][::-1]
+    levels = [_unmirrored(values, nphi) for values in extrapolated]  # every φ, for the means
+    area = levels[0]
+    error = np.abs(levels[0] - levels[1]) + np.abs(levels[1] - levels[2])
+    # the mean's error from the means of the levels (their errors share a sign across φ), and the φ quadrature
+    mean_error = abs(levels[0].mean() - levels[1].mean()) + abs(levels[1].mean() - levels[2].mean())
     attrs = {**base_attrs("sesp.summary"), **pair_attrs(pair), "nphi": nphi, "rows": rows}
     attrs["sesp_format"] = "sesp.scanline_excluded_area"
-    return _area_dataset(phi, area, error, attrs)
+    return _area_dataset(phi, area, error, mean_error + _phi_quadrature_error(area), attrs)
 
 
-def _area_dataset(phi, area, error, attrs) -> xr.Dataset:
-    """A_ex(φ) with error bars and their orientation averages; the average's error adds the mean per-φ error
-    and the φ-quadrature error (half the difference between the averages over even and odd k)."""
-    phi_error = abs(area[0::2].mean() - area[1::2].mean()) / 2 if len(phi) > 1 else math.nan
+def _unmirrored(computed, nphi: int) -> np.ndarray:
+    """Values at every φ_k from those at k = 0 .. len(computed) − 1, A(−φ) = A(φ) supplying the rest."""
+    stop = len(computed)
+    return np.concatenate([computed, computed[1 : nphi - stop + 1][::-1]]) if stop < nphi else np.asarray(computed)
+
+
+def _phi_quadrature_error(area) -> float:
+    """Half the difference between the averages over even and odd k: the error of the mean over φ."""
+    return abs(area[0::2].mean() - area[1::2].mean()) / 2 if len(area) > 1 else math.nan
+
+
+def _area_dataset(phi, area, error, mean_error, attrs) -> xr.Dataset:
+    """A_ex(φ) with error bars, and their orientation average with its error bar ``mean_error``."""
     return xr.Dataset(
         {
             "excluded_area": ("phi", area, {**_AREA, "long_name": "excluded area at fixed orientation A_ex(φ)"}),
             "excluded_area_error": ("phi", error, {**_AREA, "long_name": "error estimate of A_ex(φ)"}),
             "mean_excluded_area": ((), area.mean(), {**_AREA, "long_name": "orientation-averaged A_ex"}),
-            "mean_excluded_area_error": ((), error.mean() + phi_error, {**_AREA, "long_name": "its error estimate"}),
+            "mean_excluded_area_error": ((), mean_error, {**_AREA, "long_name": "its error estimate"}),
         },
         coords={"phi": ("phi", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"})},
         attrs=attrs,
@@ -289,8 +298,9 @@ def smooth_excluded_area(
     areas = [ds.excluded_area.values for ds in levels]
     fine, coarse = ((4 * a - b) / 3 for a, b in zip(areas, areas[1:], strict=False))
     error = levels[0].excluded_area_error.values + np.abs(fine - coarse)
+    mean_error = float(levels[0].mean_excluded_area_error) + abs(fine.mean() - coarse.mean())
     attrs = {**levels[0].attrs, "sesp_format": "sesp.smooth_excluded_area"}
-    return _area_dataset(levels[0].phi.values, fine, error, attrs)
+    return _area_dataset(levels[0].phi.values, fine, error, mean_error, attrs)
 
 
 def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> float:
