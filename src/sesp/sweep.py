@@ -453,6 +453,8 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
     lock = _claim(folder, point)
     if lock is None:
         return None
+    global _WRITING
+    _WRITING = (folder, point.hash)
     try:
         for stale in Path(folder).glob(f".{point.hash}.nc.*.tmp"):  # left by a killed writer; the lock is ours
             stale.unlink(missing_ok=True)
@@ -461,6 +463,7 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
         # safe to remove now: whoever locks a stale copy of it finds the point finished
         _lock_path(folder, point).unlink(missing_ok=True)
     finally:
+        _WRITING = None
         os.close(lock)
     return str(path)
 
@@ -515,6 +518,7 @@ def warm_up():
 
 
 _STOPPING = False  # set in a worker process once it was interrupted: it starts no further point
+_WRITING = None  # (folder, point hash) while this process holds a point's lock
 
 
 def _interrupted(signum, frame):
@@ -536,6 +540,10 @@ def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
         time.sleep(poll)
     os.kill(os.getpid(), signal.SIGINT)
     time.sleep(grace)  # a kernel call finishes its slice before the interrupt is seen
+    if _WRITING is not None:  # still not stopped: remove what it was writing (its lock is ours until we exit)
+        folder, point_hash = _WRITING
+        for stale in Path(folder).glob(f".{point_hash}.nc.*.tmp"):
+            stale.unlink(missing_ok=True)
     os._exit(1)
 
 
