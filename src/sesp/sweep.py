@@ -441,6 +441,11 @@ def _claim(folder, point) -> int | None:
     return fd
 
 
+def temporaries(folder, stem: str) -> list[Path]:
+    """The temporaries :func:`sesp.io.save` leaves in ``folder`` when stopped while writing ``<stem>.nc``."""
+    return list(Path(folder).glob(f".{stem}.nc.*.tmp"))
+
+
 def run_point(point: SweepPoint, folder: str) -> str | None:
     """Compute one point and write ``folder/<hash>.nc`` atomically; return its path.
 
@@ -456,7 +461,7 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
     global _WRITING
     _WRITING = (folder, point.hash)
     try:
-        for stale in Path(folder).glob(f".{point.hash}.nc.*.tmp"):  # left by a killed writer; the lock is ours
+        for stale in temporaries(folder, point.hash):  # left by a killed writer; the lock is ours
             stale.unlink(missing_ok=True)
         if not _finished(path):
             save(compute_point(point), path)
@@ -542,7 +547,7 @@ def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
     time.sleep(grace)  # a kernel call finishes its slice before the interrupt is seen
     if _WRITING is not None:  # still not stopped: remove what it was writing (its lock is ours until we exit)
         folder, point_hash = _WRITING
-        for stale in Path(folder).glob(f".{point_hash}.nc.*.tmp"):
+        for stale in temporaries(folder, point_hash):
             stale.unlink(missing_ok=True)
     os._exit(1)
 
@@ -585,14 +590,14 @@ def folder_lock(folder: Path):
 def remove_runner_temporaries(folder: Path, name: str):
     """Remove the temporaries of the manifest and the collected file left by a runner that was killed."""
     with folder_lock(folder):
-        for stale in [*folder.glob(f".{MANIFEST}.*.tmp"), *folder.glob(f".{name}.nc.*.tmp")]:
+        for stale in [*folder.glob(f".{MANIFEST}.*.tmp"), *temporaries(folder, name)]:
             stale.unlink(missing_ok=True)
 
 
 def remove_stale_temporaries(folder, points):
     """Remove the temporary files of points that no process is writing (their lock can be taken)."""
     for point in points:
-        stale = list(Path(folder).glob(f".{point.hash}.nc.*.tmp"))
+        stale = temporaries(folder, point.hash)
         if not stale:
             continue
         lock = _claim(folder, point)
