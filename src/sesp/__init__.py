@@ -15,6 +15,7 @@ from .dataset import SespFileError, cell_area, grid_of, pair_of
 from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
 from .grid import Grid
 from .io import load, save
+from .maps import ExcludedMap, excluded_map, map_transitions, widest_window
 from .measures import (
     closed_excluded_area,
     convex_excluded_area,
@@ -86,6 +87,11 @@ __all__ = [
     "topology_profile",
     "axis_profile",
     "axis_transitions",
+    # adaptive maps, exact in φ
+    "excluded_map",
+    "map_transitions",
+    "widest_window",
+    "ExcludedMap",
     "Components",
     "AxisProfile",
     "format_result",

@@ -146,6 +146,21 @@ def _add_topology(sub):
         metavar=("LOW", "HIGH"),
         help="Ψ range in degrees (default 0 360)",
     )
+    p.add_argument(
+        "--opening",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="one opening: the excluded set's components on an adaptive map, exact in φ (degrees)",
+    )
+    p.add_argument(
+        "--map",
+        action="store_true",
+        help="count excluded components on adaptive maps exact in φ (sesp.maps) instead of the grid",
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object (implies --map)")
+    p.add_argument("--base", type=int, default=128, help="adaptive map: cells of the first window (default 128)")
+    p.add_argument("--floor", type=float, default=1e-7, help="adaptive map: smallest cell, b (default 1e-7)")
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
     p.add_argument(
         "--quantity",
@@ -182,6 +197,8 @@ def _positive_degrees(name: str, value: float, low: float, high: float) -> float
 
 
 def _cmd_topology(args) -> int:
+    if args.opening is not None or args.json or args.map:
+        return _topology_on_maps(args)
     from .grid import Grid
     from .report import format_result
     from .topology import axis_transitions, find_transitions
@@ -223,6 +240,87 @@ def _cmd_topology(args) -> int:
 
 
 TOLERANCE_DEG = math.degrees(0.02)
+MAP_TOLERANCE_DEG = math.degrees(0.005)
+
+
+def _topology_on_maps(args) -> int:
+    """``sesp topology --opening / --map / --json``: components of the excluded set on adaptive maps."""
+    import json
+
+    from .maps import excluded_map, map_transitions
+    from .report import format_map, format_map_transitions
+
+    if args.quantity != "excluded":
+        raise ValueError(f"--opening, --map and --json count excluded components only, got --quantity {args.quantity}")
+    if not 8 <= args.base <= 4096:
+        raise ValueError(f"--base must be an integer in [8, 4096] (cells), got {args.base}")
+    if not (math.isfinite(args.floor) and 1e-12 <= args.floor <= 1.0):
+        raise ValueError(f"--floor must be in [1e-12, 1] b, got {args.floor}")
+    _announce_compile()
+    if args.opening is not None:
+        particle = _shape_from_args(args, args.opening)
+        found = excluded_map(
+            particle, segments=args.segments, base=args.base, floor=args.floor, progress=not args.quiet
+        )
+        if args.json:
+            print(json.dumps(_map_json(found, args.opening)))
+        else:
+            print(format_map(found, particle))
+        return 0
+    lo, hi = args.opening_range
+    if not (0.0 <= lo < hi <= 360.0):
+        raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
+    tolerance = _positive_degrees(
+        "--tolerance", MAP_TOLERANCE_DEG if args.tolerance == TOLERANCE_DEG else args.tolerance, 1e-6, 90.0
+    )
+    family = _shape_from_args(args, 0.0)
+    result = map_transitions(
+        family,
+        (math.radians(lo), math.radians(hi)),
+        step=_positive_degrees("--step", args.step, 1e-4, 360.0),
+        tolerance=tolerance,
+        segments=args.segments,
+        base=args.base,
+        floor=args.floor,
+        progress=not args.quiet,
+    )
+    print(json.dumps(_transitions_json(result)) if args.json else format_map_transitions(result, family))
+    return 0
+
+
+def _map_json(found, degrees) -> dict:
+    return {
+        "opening_deg": degrees,
+        "count": found.count,
+        "components": [c.as_dict() for c in found.components],
+        "floor": found.floor,
+        "base_cells": found.base_cells,
+        "finest_cell": found.finest,
+        "positions": found.positions,
+    }
+
+
+def _transitions_json(result) -> dict:
+    from .report import count_runs
+
+    degrees = result["opening_degrees"].values
+    runs = count_runs(list(range(len(degrees))), result["count"].values)
+    intervals = [{"from_deg": float(degrees[a]), "to_deg": float(degrees[b]), "count": c} for a, b, c, _ in runs]
+    transitions = [
+        {
+            "low_deg": float(result.low_degrees[t]),
+            "high_deg": float(result.high_degrees[t]),
+            "count_low": int(result.count_low[t]),
+            "count_high": int(result.count_high[t]),
+        }
+        for t in range(result.sizes["transition"])
+    ]
+    return {
+        "intervals": intervals,
+        "transitions": transitions,
+        "floor": result.attrs["floor"],
+        "base_cells": result.attrs["base_cells"],
+    }
 
 
 def _add_sweep(sub):

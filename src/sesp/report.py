@@ -13,7 +13,7 @@ from .topology import RESOLVED_PEAK, TopologyResult
 __all__ = ["format_result", "describe"]
 
 
-def _intervals(openings, counts):
+def count_runs(openings, counts):
     """Runs of equal count: (first Ψ, last Ψ, count, index of the middle sample)."""
     runs, start = [], 0
     for i in range(1, len(counts) + 1):
@@ -34,7 +34,7 @@ def format_result(result: TopologyResult, family=None) -> str:
     lines.append(f"{result.quantity} components over the opening (first pass; degrees)")
     lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6} {'shortest' if axis else 'thinnest':>9}  {measured}")
     thinnest = result.thinnest if result.thinnest is not None else np.full(len(result.openings), math.inf)
-    for a, b, count, mid in _intervals(result.openings, result.counts):
+    for a, b, count, mid in count_runs(result.openings, result.counts):
         areas = ", ".join(f"{v:.4g}" for v in result.areas[mid]) or "-"
         run = (result.openings >= a) & (result.openings <= b)
         thin = float(thinnest[run].min())
@@ -73,6 +73,42 @@ def format_result(result: TopologyResult, family=None) -> str:
                     )
                 )
             )
+    return "\n".join(lines)
+
+
+def format_map(found, particle=None) -> str:
+    """A plain-text report of an adaptive map (:class:`sesp.maps.ExcludedMap`): one line per component."""
+    lines = [f"particle: {particle}"] if particle is not None else []
+    lines.append(
+        f"excluded components on an adaptive map, exact in phi: {found.count}"
+        f" (base {found.base_cells} cells, finest cell {found.finest:.2g} b, floor {found.floor:.2g} b,"
+        f" {found.positions} positions)"
+    )
+    lines.append(
+        f"{'#':>3} {'area b^2':>12} {'inscribed b':>12}  {'x from':>9} {'x to':>9} {'y from':>9} {'y to':>9}  floor"
+    )
+    for k, c in enumerate(found.components, start=1):
+        box = " ".join(f"{v:9.4f}" for v in c.bbox)
+        lines.append(f"{k:3d} {c.area:12.5g} {c.inscribed_radius:12.4g}  {box}  {'yes' if c.touches_floor else 'no'}")
+    return "\n".join(lines)
+
+
+def format_map_transitions(result, family=None) -> str:
+    """A plain-text report of :func:`sesp.maps.map_transitions`: Ψ intervals with counts, then the brackets."""
+    lines = [f"family: {family}"] if family is not None else []
+    lines.append("excluded components on adaptive maps, exact in phi (degrees)")
+    lines.append(f"{'Psi from':>9} {'Psi to':>8} {'count':>6}")
+    openings, counts = result.opening.values, result["count"].values
+    for a, b, count, _ in count_runs(openings, counts):
+        lines.append(f"{math.degrees(a):9.2f} {math.degrees(b):8.2f} {count:6d}")
+    lines.append("transitions (degrees):")
+    if not result.sizes["transition"]:
+        lines.append("  none")
+    for t in range(result.sizes["transition"]):
+        lines.append(
+            f"  * {int(result.count_low[t])} -> {int(result.count_high[t])} at Psi in"
+            f" [{float(result.low_degrees[t]):.3f}, {float(result.high_degrees[t]):.3f}]"
+        )
     return "\n".join(lines)
 
 

@@ -77,9 +77,11 @@ from .shape import DEFAULT_SEGMENTS, SeSP
 __all__ = [
     "Components",
     "components",
+    "distance_to_complement",
     "excluded_components",
     "state_components",
     "find_transitions",
+    "opening_family",
     "topology_profile",
     "QUANTITIES",
     "AxisProfile",
@@ -113,6 +115,10 @@ class Components:
     peaks : (count,) ndarray
         Inscribed radius of each component, in node spacings (the largest
         distance from one of its nodes to the set's complement).
+    necks : (k, 4) ndarray
+        Undecided necks, when asked for (``neck`` > 0 in :func:`components`):
+        flat node index, the two components' labels, the neck's width s
+        (node spacings).
     """
 
     labels: np.ndarray
@@ -120,6 +126,7 @@ class Components:
     measure: float
     unassigned: int
     peaks: np.ndarray
+    necks: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
     @property
     def count(self) -> int:
@@ -131,19 +138,14 @@ class Components:
         return self.sizes * self.measure
 
 
-def _distance_to_complement(mask, periodic, outside):
+def distance_to_complement(mask, periodic=(), outside: bool = False):
     """Euclidean distance, in node spacings, from each node of the set to the nearest node outside it."""
     pad = [(1, 1)] * mask.ndim
     for axis in periodic:
         pad[axis] = (0, 0)
     padded = np.pad(mask, pad, mode="constant", constant_values=outside)
-    if outside:  # the set continues beyond the box: only nodes inside it can be outside the set
-        padded = np.pad(
-            mask,
-            [(0, 0) if a in periodic else (max(mask.shape), max(mask.shape)) for a in range(mask.ndim)],
-            mode="constant",
-            constant_values=True,
-        )
+    if outside:  # the set continues beyond the box: only nodes inside it are outside the set (the array's edge
+        padded = mask  # is not background to the transform)
     reps = [3 if a in periodic else 1 for a in range(mask.ndim)]
     tiled = np.tile(padded, reps)
     dist = ndimage.distance_transform_edt(tiled)
@@ -155,7 +157,15 @@ def _distance_to_complement(mask, periodic, outside):
 
 
 def components(
-    mask, *, periodic=(), outside: bool = False, measure: float = 1.0, ratio: float = 0.5, min_peak: float = 2.0
+    mask,
+    *,
+    periodic=(),
+    outside: bool = False,
+    measure: float = 1.0,
+    ratio: float = 0.5,
+    min_peak: float = 2.0,
+    neck: float = 0.0,
+    distance=None,
 ) -> Components:
     """Robust connected components of a boolean set (see the module notes).
 
@@ -174,6 +184,14 @@ def components(
         is narrower than ``ratio`` times its own inscribed radius.
     min_peak : float
         Smallest inscribed radius, in node spacings, of a counted component.
+    neck : float
+        Where two components with inscribed radii of at least ``RESOLVED_PEAK``
+        meet at a neck s with ratio · p <= s < neck · p (p the smaller radius),
+        keep them apart and list the neck in ``Components.necks``, for a finer
+        look (the adaptive maps do); 0: no such necks.
+    distance : ndarray, optional
+        The distance field to rank by, shaped like ``mask`` (node spacings);
+        default :func:`distance_to_complement` of ``mask``.
 
     Returns
     -------
@@ -183,15 +201,21 @@ def components(
     periodic = tuple(sorted({a % mask.ndim for a in periodic}))
     if periodic not in ((), (0,)):
         raise ValueError(f"only axis 0 can be periodic, got {periodic}")
-    dist = _distance_to_complement(mask, periodic, outside).ravel()
+    dist = distance_to_complement(mask, periodic, outside) if distance is None else np.asarray(distance, dtype=float)
+    dist = dist.ravel()
     nodes = np.flatnonzero(mask.ravel())
     order = nodes[np.argsort(-dist[nodes], kind="stable")]
     shape = np.array((1,) * (3 - mask.ndim) + mask.shape, dtype=np.int64)
-    labels, _ = label_kernels.persistent_labels(dist, order, shape, bool(periodic), float(ratio), float(min_peak))
-    return _renumber(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape))
+    labels, _, necks = label_kernels.persistent_labels(
+        dist, order, shape, bool(periodic), float(ratio), float(min_peak), float(neck), RESOLVED_PEAK, MAX_NECKS
+    )
+    return _renumber(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape), necks)
 
 
-def _renumber(labels, mask, measure, dist) -> Components:
+MAX_NECKS = 4096  # undecided necks listed at most, per call of :func:`components`
+
+
+def _renumber(labels, mask, measure, dist, necks) -> Components:
     """Components numbered by decreasing size, with their inscribed radii."""
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
@@ -202,7 +226,9 @@ def _renumber(labels, mask, measure, dist) -> Components:
     new = mapping[labels]
     peaks = np.asarray(ndimage.maximum(dist, new, np.arange(1, len(keep) + 1)), dtype=float).reshape(-1)
     unassigned = int(np.count_nonzero(mask) - np.count_nonzero(new))
-    return Components(new, sizes[keep], float(measure), unassigned, peaks)
+    necks = necks.copy()
+    necks[:, 1:3] = mapping[necks[:, 1:3].astype(np.int64)]
+    return Components(new, sizes[keep], float(measure), unassigned, peaks, necks)
 
 
 def excluded_components(ds: xr.Dataset, **kwargs) -> Components:
@@ -234,7 +260,8 @@ def state_components(ds: xr.Dataset, which: str = "allowed", **kwargs) -> Compon
 # --- transitions over the opening Ψ ----------------------------------------------------
 
 
-def _family(family):
+def opening_family(family):
+    """opening -> particle: a SeSP's opening varied, or the callable itself."""
     if isinstance(family, SeSP):
         return lambda opening: dataclasses.replace(family, opening=float(opening))
     if callable(family):
@@ -319,7 +346,7 @@ def topology_profile(
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
     grid = grid if grid is not None else Grid(256, nphi=256)
-    found = _profile(_family(family), openings, quantity, grid, segments, progress)
+    found = _profile(opening_family(family), openings, quantity, grid, segments, progress)
     return np.array([c.count for c in found]), [c.areas for c in found]
 
 
@@ -413,7 +440,7 @@ def find_transitions(
     if quantity not in QUANTITIES:
         raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
     openings = _openings(opening_range, step, tolerance)
-    make = _family(family)
+    make = opening_family(family)
     grid = grid if grid is not None else Grid(256, nphi=256)
     found = _profile(make, openings, quantity, grid, segments, progress)
     result = TopologyResult(
@@ -685,7 +712,7 @@ def axis_transitions(
         As in :func:`axis_profile`.
     """
     openings = _openings(opening_range, step, tolerance)
-    make = _family(family)
+    make = opening_family(family)
     cache = {}  # opening -> axis components
     state = _memoised(
         lambda opening: axis_profile(make(opening), nodes=nodes, segments=segments).components(), _axis_summary, cache

@@ -35,7 +35,7 @@ def _neighbour(node, k, nz, ny, nx, periodic):
 
 
 @njit(**JIT)
-def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels):
+def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels, neck, resolved, necks):
     """Label the significant components of the superlevel sets of ``dist``.
 
     ``dist`` is flat over a grid of ``shape`` (nz, ny, nx) (nz = 1 in the
@@ -47,6 +47,13 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
     p >= min_peak (a narrow neck or a pinch between two bodies), else it is
     absorbed (a bump or a fragment). Writes each node's final component
     number (1, 2, ...; 0: in none) to ``labels`` and returns the count.
+
+    Undecided necks: where the lower peak is at least ``resolved`` and
+    ratio · p <= s < neck · p, the neck is narrower than the smaller body but
+    wide enough to join them at this resolution; the two are kept apart and
+    the meeting is written to ``necks`` (rows: node, the two components'
+    numbers, s), as many as it holds, for a finer look (``neck`` = 0: none).
+    Returns (count, number of necks found).
     """
     n = dist.shape[0]
     parent = np.arange(n)
@@ -55,13 +62,20 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
     kept = np.zeros(n, dtype=np.bool_)  # root that survived a merge as its own component
     owner = np.full(n, -1)  # root a node joined when it was added
     added = np.zeros(n, dtype=np.bool_)
+    neck_node = np.empty(necks.shape[0], dtype=np.int64)
+    neck_a = np.empty(necks.shape[0], dtype=np.int64)
+    neck_b = np.empty(necks.shape[0], dtype=np.int64)
+    found = 0
     for node in order:
         added[node] = True
         best = -1
+        steepest = -1  # the added neighbour of largest distance: the node takes its component (steepest ascent)
         for k in range(27):
             nb = _neighbour(node, k, shape[0], shape[1], shape[2], periodic)
             if nb < 0 or not added[nb]:
                 continue
+            if steepest < 0 or dist[nb] > dist[steepest]:
+                steepest = nb
             r = _find(parent, nb)
             if best < 0:
                 best = r
@@ -69,6 +83,11 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
                 hi, lo = (best, r) if peak[best] >= peak[r] else (r, best)
                 if dist[node] < ratio * peak[lo] and peak[lo] >= min_peak:
                     kept[lo] = True
+                elif dist[node] < neck * peak[lo] and peak[lo] >= resolved:
+                    kept[lo] = True
+                    if found < neck_node.shape[0]:
+                        neck_node[found], neck_a[found], neck_b[found] = node, hi, lo
+                    found += 1
                 else:
                     merged_into[lo] = hi
                 parent[lo] = hi
@@ -78,7 +97,7 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
             owner[node] = node
         else:
             parent[node] = best
-            owner[node] = best
+            owner[node] = owner[steepest]
     # final roots with a high enough peak are components too
     for i in range(n):
         if added[i] and parent[i] == i and peak[i] >= min_peak:
@@ -90,15 +109,29 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
             count += 1
             number[node] = count
     for node in order:
-        r = owner[node]
-        while r >= 0 and not kept[r]:
-            r = merged_into[r]
-        labels[node] = number[r] if r >= 0 else 0
-    return count
+        labels[node] = _number_of(owner[node], kept, merged_into, number)
+    for k in range(min(found, necks.shape[0])):
+        necks[k, 0] = neck_node[k]
+        necks[k, 1] = _number_of(neck_a[k], kept, merged_into, number)
+        necks[k, 2] = _number_of(neck_b[k], kept, merged_into, number)
+        necks[k, 3] = dist[neck_node[k]]
+    return count, found
 
 
-def persistent_labels(dist, order, shape, periodic, ratio, min_peak):
-    """(labels, count): :func:`persistent_components` on flat arrays, labels int64 like ``dist``."""
+@njit(**JIT)
+def _number_of(root, kept, merged_into, number):
+    """The component number of a root: its own if kept, else that of the root it was absorbed into (0: none)."""
+    while root >= 0 and not kept[root]:
+        root = merged_into[root]
+    return number[root] if root >= 0 else 0
+
+
+def persistent_labels(dist, order, shape, periodic, ratio, min_peak, neck=0.0, resolved=np.inf, max_necks=0):
+    """(labels, count, necks): :func:`persistent_components` on flat arrays, labels int64 like ``dist``;
+    ``necks`` (k, 4): node, the two components' numbers, neck value, at most ``max_necks`` rows."""
     labels = np.zeros(dist.shape[0], dtype=np.int64)
-    count = persistent_components(dist, order, shape, periodic, ratio, min_peak, labels)
-    return labels, count
+    necks = np.zeros((max_necks, 4))
+    count, found = persistent_components(
+        dist, order, shape, periodic, ratio, min_peak, labels, float(neck), float(resolved), necks
+    )
+    return labels, count, necks[: min(found, max_necks)]

@@ -61,10 +61,18 @@ def _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty):
 
 @njit(**JIT)
 def _cuts(roots, m):
-    """The m roots with 0 and 2π added, sorted: the ends of the pieces on which a pair's answer is constant."""
+    """Add 0 and 2π to the m roots and sort the m + 2 in place (insertion sort: at most 50): the ends of the
+    pieces on which a pair's answer is constant."""
     roots[m] = 0.0
     roots[m + 1] = TWO_PI
-    return np.sort(roots[: m + 2])
+    for k in range(1, m + 2):
+        value = roots[k]
+        i = k - 1
+        while i >= 0 and roots[i] > value:
+            roots[i + 1] = roots[i]
+            i -= 1
+        roots[i + 1] = value
+    return roots
 
 
 @njit(**JIT)
@@ -79,7 +87,7 @@ def _append_piece(lo, hi, starts, ends, n):
 
 
 @njit(**JIT)
-def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
+def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n, roots):
     """Append the φ intervals where fixed segment pq meets t + R_φ[uv]; return the new count.
 
     Segments meet exactly when each one's end points lie on opposite sides of
@@ -88,7 +96,6 @@ def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n):
     answer is constant: one midpoint test per piece.
     """
     k1, k2, k3, k4 = _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty)
-    roots = np.empty(10)
     m = 0
     for k in (k1, k2, k3, k4):
         m = _sinusoid_roots(k[0], k[1], k[2], roots, m)
@@ -116,7 +123,7 @@ def _within(px, py, qx, qy, ux, uy, vx, vy, crossing, contact):
 
 
 @njit(**JIT)
-def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, ends, n):
+def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, ends, n, roots):
     """:func:`_pair_angles` for thick particles: the φ intervals where the segments come within ``contact``.
 
     Within ``contact`` means crossing, or an end point within ``contact`` of
@@ -137,7 +144,6 @@ def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, 
     elen = math.hypot(ex, ey)
     gpx, gpy = px - tx, py - ty
     gqx, gqy = qx - tx, qy - ty
-    roots = np.empty(50)
     m = 0
     for k in (k1, k2):
         for shift in (0.0, contact * dlen, -contact * dlen):
@@ -191,59 +197,71 @@ def _segment_distances(vx0, vy0, vx1, vy1, x, y):
 
 
 @njit(**JIT)
-def blocked_angles(v1, v2, tx, ty, slack, contact):
+def radial_spans(v):
+    """(rin, rout, order): each segment's nearest and farthest distance from the curve's centre, and the
+    segments sorted by ``rin``. Rotated about its centre, segment j sweeps the annulus [rin[j], rout[j]]."""
+    n = v.shape[0] - 1
+    rin = np.empty(n)
+    rout = np.empty(n)
+    for j in range(n):
+        rin[j], rout[j] = _segment_distances(v[j, 0], v[j, 1], v[j + 1, 0], v[j + 1, 1], 0.0, 0.0)
+    return rin, rout, np.argsort(rin, kind="mergesort")
+
+
+@njit(**JIT)
+def _grow(starts, ends, n, cap):
+    """The interval buffers, doubled when fewer than 26 free places are left (one pair adds at most 25)."""
+    if n + 26 <= cap:
+        return starts, ends, cap
+    cap *= 2
+    grown_s = np.empty(cap)
+    grown_e = np.empty(cap)
+    grown_s[:n] = starts[:n]
+    grown_e[:n] = ends[:n]
+    return grown_s, grown_e, cap
+
+
+@njit(**JIT)
+def blocked_angles(v1, v2, spans2, tx, ty, slack, contact):
     """Sorted (starts, ends) of the φ intervals in [0, 2π) where curve 2 at t comes within ``contact`` of curve 1.
 
     Pairs are screened first: rotated about its centre, segment j of curve 2
-    stays in the annulus of radii [nearest, farthest distance of the segment
-    from the centre] about t, so it can meet segment i only if segment i
-    reaches that annulus (widened by ``slack`` + ``contact``).
+    sweeps the annulus of radii [rin, rout] (``spans2`` = :func:`radial_spans`
+    of curve 2) about t, so it can meet segment i only if segment i reaches
+    that annulus (widened by ``slack`` + ``contact``). With curve 2's segments
+    sorted by rin, the candidates for segment i are one run of that order
+    (rin between the segment's nearest distance minus the widest annulus and
+    its farthest distance), found by two binary searches: the work per
+    position is O(N log N) plus the pairs that do meet at some φ.
     """
-    n1 = v1.shape[0] - 1
-    n2 = v2.shape[0] - 1
-    near1 = np.empty(n1)
-    far1 = np.empty(n1)
-    for i in range(n1):
-        near1[i], far1[i] = _segment_distances(v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1], tx, ty)
+    rin, rout, order = spans2
+    sorted_rin = rin[order]
+    widest = 0.0
+    for j in range(rin.shape[0]):
+        widest = max(widest, rout[j] - rin[j])
+    widen = slack + contact
     cap = 64
     starts = np.empty(cap)
     ends = np.empty(cap)
+    roots = np.empty(52)  # scratch for one pair's roots: at most 48, and 0 and 2π
     n = 0
-    for j in range(n2):
-        rin, rout = _segment_distances(v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1], 0.0, 0.0)
-        for i in range(n1):
-            if near1[i] > rout + slack + contact or far1[i] < rin - slack - contact:
+    for i in range(v1.shape[0] - 1):
+        px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
+        near, far = _segment_distances(px, py, qx, qy, tx, ty)
+        first = np.searchsorted(sorted_rin, near - widen - widest, side="left")
+        last = np.searchsorted(sorted_rin, far + widen, side="right")
+        for k in range(first, last):
+            j = order[k]
+            if near > rout[j] + widen or far < rin[j] - widen:
                 continue
-            if n + 26 > cap:  # one pair adds at most 25 intervals (49 pieces, adjacent ones merged)
-                cap *= 2
-                grown_s = np.empty(cap)
-                grown_e = np.empty(cap)
-                grown_s[:n] = starts[:n]
-                grown_e[:n] = ends[:n]
-                starts, ends = grown_s, grown_e
+            starts, ends, cap = _grow(starts, ends, n, cap)
+            ux, uy, vx, vy = v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1]
             if contact > 0.0:
-                n = _thick_pair_angles(
-                    v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1], v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1],
-                    tx, ty, contact, starts, ends, n,
-                )  # fmt: skip
-                continue
-            n = _pair_angles(
-                v1[i, 0],
-                v1[i, 1],
-                v1[i + 1, 0],
-                v1[i + 1, 1],
-                v2[j, 0],
-                v2[j, 1],
-                v2[j + 1, 0],
-                v2[j + 1, 1],
-                tx,
-                ty,
-                starts,
-                ends,
-                n,
-            )
-    order = np.argsort(starts[:n], kind="mergesort")
-    return starts[:n][order], ends[:n][order]
+                n = _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, ends, n, roots)
+            else:
+                n = _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n, roots)
+    order_out = np.argsort(starts[:n], kind="mergesort")
+    return starts[:n][order_out], ends[:n][order_out]
 
 
 @njit(**JIT)
@@ -260,24 +278,135 @@ def free_measure(starts, ends, gap):
     return free
 
 
+@njit(**JIT)
+def largest_window(starts, ends, gap):
+    """(width, middle) of the widest allowed φ window, radians, φ periodic; (0, 0) if none is wider than ``gap``.
+
+    ``starts``, ``ends``: sorted blocked intervals in [0, 2π]; no interval: (2π, 0).
+    """
+    n = starts.shape[0]
+    if n == 0:
+        return TWO_PI, 0.0
+    best = 0.0
+    middle = 0.0
+    reach = ends[0]
+    for k in range(1, n):
+        if starts[k] - reach > best:
+            best = starts[k] - reach
+            middle = reach + 0.5 * best
+        reach = max(reach, ends[k])
+    across = TWO_PI - reach + starts[0]  # the window through φ = 0
+    if across > best:
+        best = across
+        middle = (reach + 0.5 * across) % TWO_PI
+    if best <= gap:
+        return 0.0, 0.0
+    return best, middle
+
+
+@njit(**JIT)
+def _segments_distance2(px, py, qx, qy, ax, ay, bx, by):
+    """Squared distance between segments p–q and a–b: 0 when they cross."""
+    d1 = (qx - px) * (ay - py) - (qy - py) * (ax - px)
+    d2 = (qx - px) * (by - py) - (qy - py) * (bx - px)
+    d3 = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+    d4 = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax)
+    if d1 * d2 <= 0.0 and d3 * d4 <= 0.0:
+        return 0.0
+    return min(
+        point_segment_distance2(ax, ay, px, py, qx, qy),
+        point_segment_distance2(bx, by, px, py, qx, qy),
+        point_segment_distance2(px, py, ax, ay, bx, by),
+        point_segment_distance2(qx, qy, ax, ay, bx, by),
+    )
+
+
+@njit(**JIT)
+def clearance(v1, v2, spans2, tx, ty, phi, cap):
+    """min(cap, distance between curve 1 and curve 2 turned by φ and moved to t), b.
+
+    Only pairs whose annuli (as in :func:`blocked_angles`) come within ``cap``
+    are measured: the others are farther apart than ``cap`` at every φ.
+    """
+    rin, rout, order = spans2
+    sorted_rin = rin[order]
+    widest = 0.0
+    for j in range(rin.shape[0]):
+        widest = max(widest, rout[j] - rin[j])
+    c = math.cos(phi)
+    s = math.sin(phi)
+    best2 = cap * cap
+    for i in range(v1.shape[0] - 1):
+        px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
+        near, far = _segment_distances(px, py, qx, qy, tx, ty)
+        first = np.searchsorted(sorted_rin, near - cap - widest, side="left")
+        last = np.searchsorted(sorted_rin, far + cap, side="right")
+        for k in range(first, last):
+            j = order[k]
+            if near > rout[j] + cap or far < rin[j] - cap:
+                continue
+            ax = tx + c * v2[j, 0] - s * v2[j, 1]
+            ay = ty + s * v2[j, 0] + c * v2[j, 1]
+            bx = tx + c * v2[j + 1, 0] - s * v2[j + 1, 1]
+            by = ty + s * v2[j + 1, 0] + c * v2[j + 1, 1]
+            best2 = min(best2, _segments_distance2(px, py, qx, qy, ax, ay, bx, by))
+    return math.sqrt(best2)
+
+
+# Orientations tried for the clearance, as fractions of the widest window: its middle first.
+CLEARANCE_FRACTIONS = np.array([0.5, 0.25, 0.75, 0.125, 0.875, 0.375, 0.625])
+
+
 @njit(**JIT, parallel=True)
-def allowed_angle_at(v1, v2, xs, ys, slack, gap, contact, out):
+def windows_at(v1, v2, spans2, xs, ys, slack, gap, contact, caps, width, middle, clear):
+    """Per position p: the widest allowed window ``width[p]`` (radians), its ``middle[p]``, and the largest
+    clearance (b) found at the orientations ``CLEARANCE_FRACTIONS`` across that window, capped at
+    ``caps[p]`` + ``contact`` (``clear[p]``; 0 where no orientation is allowed or ``caps[p]`` is 0).
+
+    Each position is written by one thread, so results do not depend on the thread count.
+    """
+    for p in prange(xs.shape[0]):
+        starts, ends = blocked_angles(v1, v2, spans2, xs[p], ys[p], slack, contact)
+        width[p], middle[p] = largest_window(starts, ends, gap)
+        clear[p] = 0.0
+        if width[p] == 0.0 or caps[p] <= 0.0:
+            continue
+        cap = caps[p] + contact
+        for fraction in CLEARANCE_FRACTIONS:
+            phi = middle[p] + (fraction - 0.5) * width[p]
+            clear[p] = max(clear[p], clearance(v1, v2, spans2, xs[p], ys[p], phi, cap))
+            if clear[p] >= cap:
+                break
+
+
+@njit(**JIT, parallel=True)
+def allowed_angle_at(v1, v2, spans2, xs, ys, slack, gap, contact, out):
     """``out[p]`` = measure (radians) of the orientations allowed at translation (xs[p], ys[p]).
 
     Each point is written by one thread, so results do not depend on the thread count.
     """
     for p in prange(xs.shape[0]):
-        starts, ends = blocked_angles(v1, v2, xs[p], ys[p], slack, contact)
+        starts, ends = blocked_angles(v1, v2, spans2, xs[p], ys[p], slack, contact)
         out[p] = free_measure(starts, ends, gap)
 
 
 def blocked_intervals(v1, v2, tx, ty, slack, contact=0.0):
     """Sorted (starts, ends) of the φ intervals where curve 2 at (tx, ty) meets curve 1, radians."""
-    return blocked_angles(v1, v2, float(tx), float(ty), slack, float(contact))
+    return blocked_angles(v1, v2, radial_spans(v2), float(tx), float(ty), slack, float(contact))
 
 
 def allowed_measures(v1, v2, xs, ys, slack, gap, contact=0.0):
     """(p,) measure in radians of the orientations allowed at each translation (xs[p], ys[p])."""
     out = np.empty(len(xs))
-    allowed_angle_at(v1, v2, xs, ys, slack, gap, float(contact), out)
+    allowed_angle_at(v1, v2, radial_spans(v2), xs, ys, slack, gap, float(contact), out)
     return out
+
+
+def widest_windows(v1, v2, xs, ys, slack, gap, contact=0.0, caps=None):
+    """(width, middle, clearance) per translation: see :func:`windows_at`; ``caps`` None: no clearance."""
+    xs = np.ascontiguousarray(xs, dtype=float)
+    ys = np.ascontiguousarray(ys, dtype=float)
+    caps = np.zeros(len(xs)) if caps is None else np.ascontiguousarray(caps, dtype=float)
+    width, middle, clear = np.empty(len(xs)), np.empty(len(xs)), np.empty(len(xs))
+    windows_at(v1, v2, radial_spans(v2), xs, ys, slack, gap, float(contact), caps, width, middle, clear)
+    return width, middle, clear

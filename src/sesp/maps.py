@@ -1,0 +1,569 @@
+"""Adaptive maps of the excluded set, exact in φ, and the components found on them.
+
+Classifying a cell
+------------------
+At a position t the blocked orientations are a finite union of φ intervals
+(:mod:`sesp.orientations`): the widest allowed window W(t) is 0 exactly on
+the excluded set E. A map samples W at the centres of square cells of side h
+and sorts each cell into one of three kinds:
+
+* **certified allowed**: at the centre, at the middle of its widest window,
+  the two curves are farther apart than the contact distance plus the
+  cell's half-diagonal h/√2. Moving particle 2 by less than that keeps
+  them apart at that orientation, so every position of the cell is
+  allowed: the cell holds no point of E. This is a proof (up to rounding).
+* **excluded node**: W = 0 at the centre: a point of E, found exactly.
+* **uncertain**: neither (near the boundary of E, or where every allowed
+  orientation leaves the curves close, as in entangled positions).
+
+The certificate is one-sided. E lies in the union of the cells that are not
+certified, so parts of that union that do not touch one another hold
+different components of E; but that a cell is excluded throughout is never
+proven: excluded is what W = 0 finds at nodes. A component is reported only
+where an excluded node was found inside it, so a component thinner than the
+finest cells it was looked for with (the floor) can be missed, and is
+reported with ``touches_floor`` when it was seen only at the floor.
+
+Components and the pinch rule
+-----------------------------
+On each window the excluded nodes are split into components by the
+persistence rule of :func:`sesp.topology.components`: two bodies that meet at
+a neck narrower than ``ratio`` (0.5) times the smaller one's inscribed radius
+are separate, so a single-point pinch (the particle's centre for the ASP)
+separates the bodies that touch there. A pinch is detected as such a neck:
+where two bodies at least ``RESOLVED_PEAK`` nodes thick meet at a neck
+narrower than the smaller of them but not narrow enough to separate them at
+this resolution (a pinch behind an allowed wedge of small angle Ψ looks
+1/Ψ nodes wide on any grid), the neck is looked at again on a finer window,
+until the rule decides it.
+
+Refinement
+----------
+A window is refined (looked at again ``zoom`` times finer, on the bounding
+box of each cluster of such nodes) where its count is not settled:
+
+* excluded or uncertain nodes farther than ``2·RESOLVED_PEAK`` nodes from
+  any excluded node at least ``RESOLVED_PEAK`` nodes deep: thin parts,
+  thin components, and uncertain cells that might hide one;
+* the undecided necks above.
+
+Nodes near thick parts are settled: their cell's boundary is resolved by the
+thick part's own count. The finer window evaluates only the refined cells
+(and one cell around them); the components it finds are joined to the
+coarser ones they overlap outside the refined cells, or are new components.
+Refinement stops when the next cells would be smaller than ``floor``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+from scipy import ndimage
+
+from .checks import check_count, check_range
+from .kernels.orientations import widest_windows
+from .orientations import ANGLE_GAP, SCREEN_SLACK
+from .pair import as_pair
+from .progress import progress_bar
+from .shape import DEFAULT_SEGMENTS
+from .topology import RESOLVED_PEAK, components, distance_to_complement, opening_family
+
+__all__ = [
+    "MapComponent",
+    "ExcludedMap",
+    "excluded_map",
+    "map_transitions",
+    "widest_window",
+    "FLOOR",
+    "BASE_CELLS",
+    "ZOOM",
+]
+
+FLOOR = 1e-7  # b: the smallest cell a map refines to
+BASE_CELLS = 128  # cells along x and y of the first window, over the pair's reach
+ZOOM = 4  # each refinement divides the cell side by this
+_PAD = 2  # cells around a refined cluster included in its finer window
+_SETTLED = 2 * RESOLVED_PEAK  # nodes from a thick excluded node within which the count is settled
+_TAPER = 64.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
+MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
+_DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
+_NARROW = 64.0  # rad per b: uncertain cells alone are refined where a window is narrower than this × h
+
+
+def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
+    """(width, middle): the widest window of allowed orientations at each position, exact in φ (radians).
+
+    ``width`` is 0 exactly where the position is excluded (gaps narrower than
+    1e-9 rad count as closed); ``middle`` is the orientation at its centre.
+    ``particle``, ``other``, ``segments`` as in :func:`sesp.scan`; ``x``, ``y``
+    (b) are broadcast together.
+    """
+    pair = as_pair(particle, other, segments)
+    xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    width, middle, _ = widest_windows(
+        pair.vertices1, pair.vertices2, xs.ravel(), ys.ravel(), SCREEN_SLACK, ANGLE_GAP, pair.contact
+    )
+    return width.reshape(xs.shape), middle.reshape(xs.shape)
+
+
+@dataclass(frozen=True)
+class MapComponent:
+    """One component of the excluded set on an adaptive map.
+
+    Attributes
+    ----------
+    area : float
+        b²: the cells of its excluded nodes, each at the finest level that
+        looked at it (an estimate: the boundary's cells are counted by their
+        centres).
+    inscribed_radius : float
+        b: the largest distance from one of its excluded nodes to a node
+        outside it, less half a cell (exact to ± half the cell of that level).
+    bbox : (xmin, xmax, ymin, ymax)
+        b: of its excluded nodes' cells.
+    touches_floor : bool
+        It was seen thinner than ``RESOLVED_PEAK`` nodes on cells that could
+        not be refined further (the floor): it may be thinner than the floor.
+    x, y, cell : ndarray
+        Its excluded nodes (b) and their cell sides (b), for plotting.
+    """
+
+    area: float
+    inscribed_radius: float
+    bbox: tuple
+    touches_floor: bool
+    x: np.ndarray = field(repr=False)
+    y: np.ndarray = field(repr=False)
+    cell: np.ndarray = field(repr=False)
+
+    def as_dict(self) -> dict:
+        """JSON-ready: area, inscribed radius, bounding box, floor flag."""
+        return {
+            "area": self.area,
+            "inscribed_radius": self.inscribed_radius,
+            "bbox": [float(v) for v in self.bbox],
+            "touches_floor": self.touches_floor,
+        }
+
+
+@dataclass(frozen=True)
+class ExcludedMap:
+    """The excluded set's components on an adaptive map (see the module notes)."""
+
+    components: list
+    floor: float
+    base_cells: int
+    reach: float
+    positions: int  # positions classified, over all levels
+    finest: float  # b: the smallest cell side used
+
+    @property
+    def count(self) -> int:
+        return len(self.components)
+
+    def dataset(self) -> xr.Dataset:
+        """Per-component area, inscribed radius, bounding box and floor flag, largest first."""
+        comps = self.components
+        box = np.array([c.bbox for c in comps]).reshape(-1, 4)
+        return xr.Dataset(
+            {
+                "area": ("component", [c.area for c in comps], {"units": "b^2"}),
+                "inscribed_radius": ("component", [c.inscribed_radius for c in comps], {"units": "b"}),
+                "touches_floor": ("component", np.array([c.touches_floor for c in comps], dtype=bool)),
+                "bbox": (("component", "side"), box, {"units": "b"}),
+            },
+            coords={"component": np.arange(1, len(comps) + 1), "side": ["xmin", "xmax", "ymin", "ymax"]},
+            attrs={"floor": self.floor, "base_cells": self.base_cells, "positions": self.positions},
+        )
+
+
+@dataclass
+class _Piece:
+    """A component in the making: its excluded nodes (x, y, cell side), peak (b) and floor flag."""
+
+    x: np.ndarray
+    y: np.ndarray
+    cell: np.ndarray
+    peak: float
+    floor: bool
+
+    def joined(self, other: _Piece) -> _Piece:
+        return _Piece(
+            np.concatenate([self.x, other.x]),
+            np.concatenate([self.y, other.y]),
+            np.concatenate([self.cell, other.cell]),
+            max(self.peak, other.peak),
+            self.floor or other.floor,
+        )
+
+
+@dataclass
+class _Context:
+    pair: object
+    floor: float
+    zoom: int
+    bar: object
+    positions: int = 0
+    finest: float = math.inf
+
+
+def excluded_map(
+    particle,
+    *,
+    other=None,
+    segments: int = DEFAULT_SEGMENTS,
+    base: int = BASE_CELLS,
+    floor: float = FLOOR,
+    zoom: int = ZOOM,
+    progress: bool = False,
+) -> ExcludedMap:
+    """The components of the excluded set, from an adaptive map exact in φ.
+
+    Parameters
+    ----------
+    particle, other, segments
+        As in :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`).
+    base : int
+        Cells along x and y of the first window, which spans the pair's reach
+        (centres farther apart cannot meet) plus one cell.
+    floor : float
+        Smallest cell side (b) the refinement goes down to.
+    zoom : int
+        Each refinement divides the cell side by ``zoom``.
+    progress : bool
+        Show a progress bar of the positions classified.
+
+    Returns
+    -------
+    ExcludedMap
+        Components largest first.
+    """
+    base = check_count("base", base, 8, 4096)
+    floor = check_range("floor", floor, 1e-12, 1.0, " b")
+    zoom = check_count("zoom", zoom, 2, 16)
+    pair = as_pair(particle, other, segments)
+    h = 2 * pair.reach / (base - 2)  # one cell beyond the reach on each side
+    start = -0.5 * base * h
+    with progress_bar(None, progress, "map", unit="pos") as bar:
+        ctx = _Context(pair, floor, zoom, bar)
+        everywhere = np.ones((base, base), dtype=bool)
+        pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
+    found = sorted((_component(p) for p, _ in pieces if p is not None), key=lambda c: -c.area)
+    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest)
+
+
+def _component(piece: _Piece) -> MapComponent:
+    half = 0.5 * piece.cell
+    bbox = (
+        float((piece.x - half).min()),
+        float((piece.x + half).max()),
+        float((piece.y - half).min()),
+        float((piece.y + half).max()),
+    )
+    return MapComponent(float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor, piece.x, piece.y, piece.cell)
+
+
+def _classify(ctx, x0, y0, h, evaluate, inherited):
+    """(excluded, uncertain, narrow) node masks of a window: narrow where the widest window is below
+    ``_NARROW`` · h radians; nodes not in ``evaluate`` take ``inherited`` (excluded) and are neither."""
+    iy, ix = np.nonzero(evaluate)
+    xs = x0 + (ix + 0.5) * h
+    ys = y0 + (iy + 0.5) * h
+    half_diagonal = h / math.sqrt(2)
+    pair = ctx.pair
+    width, _, clear = widest_windows(
+        pair.vertices1,
+        pair.vertices2,
+        xs,
+        ys,
+        SCREEN_SLACK,
+        ANGLE_GAP,
+        pair.contact,
+        np.full(len(xs), 1.001 * half_diagonal),
+    )
+    ctx.positions += len(xs)
+    ctx.finest = min(ctx.finest, h)
+    ctx.bar.update(len(xs))
+    excluded = np.zeros(evaluate.shape, dtype=bool) if inherited is None else inherited.copy()
+    uncertain = np.zeros(evaluate.shape, dtype=bool)
+    narrow = np.zeros(evaluate.shape, dtype=bool)
+    excluded[iy, ix] = width == 0.0
+    uncertain[iy, ix] = (width > 0.0) & (clear - pair.contact <= half_diagonal)
+    narrow[iy, ix] = width < _NARROW * h
+    return excluded, uncertain & ~excluded, narrow
+
+
+def _disk(radius):
+    r = int(math.ceil(radius))
+    y, x = np.mgrid[-r : r + 1, -r : r + 1]
+    return x * x + y * y <= radius * radius
+
+
+def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None):
+    """The pieces of E seen on one window of nodes spaced h, lower-left corner (x0, y0).
+
+    ``evaluate``: nodes classified here; the others keep the coarser
+    window's flags (``inherited`` excluded) and count, and ``owner_grid``
+    holds the coarser component each of their excluded nodes belongs to.
+    ``active``: nodes this window decides (the refined cells). ``outside``:
+    whether the set may continue beyond the window's edge. ``assumed``:
+    nodes taken as excluded without classifying them (the children of a
+    coarser excluded node at least ``_DEEP`` nodes inside the set: an
+    allowed hole there would not change the count of components).
+
+    Returns a list of (piece or None, owners): each component found here,
+    with the coarser components it touches (to be joined with them).
+    """
+    excluded, uncertain, narrow = _classify(ctx, x0, y0, h, evaluate, inherited)
+    if not excluded.any() and not (uncertain & active).any():
+        return []
+    counted = evaluate if assumed is None else evaluate | assumed
+    # The coarser window's excluded nodes around the refined cells take part in the count (pinches between
+    # them and what is found here are judged by the same rule) and say which coarser component a piece is.
+    known = excluded
+    dist = distance_to_complement(excluded, (), outside)
+    found = components(known, outside=outside, measure=h * h, neck=1.0, distance=dist)
+    thick = excluded & counted & (dist >= RESOLVED_PEAK)
+    settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
+    zone = _untapered(_unsettled(known, uncertain, narrow, settled) & active, known, thick, dist, h)
+    for node, a, b, s in found.necks:
+        if a and b and a != b:
+            iy, ix = divmod(int(node), zone.shape[1])
+            r = int(math.ceil(s)) + 2
+            near = np.zeros_like(zone)
+            near[max(iy - r, 0) : iy + r + 1, max(ix - r, 0) : ix + r + 1] = True
+            zone |= near & (known | uncertain) & active
+    zone, stopped = _affordable(zone, ctx.zoom)
+    at_floor = h / ctx.zoom < ctx.floor
+    local = _local_pieces(found, dist, active & (~zone if not at_floor else True), owner_grid, ~active,
+                          x0, y0, h, at_floor, stopped)  # fmt: skip
+    if at_floor or not zone.any():
+        return list(local.values())
+    return _refine(ctx, x0, y0, h, excluded, zone, found.labels, local, dist)
+
+
+def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):
+    """Label -> (piece of its nodes in ``keep``, or None; the coarser components it shares nodes with in
+    ``coarse``, the cells the coarser window decided)."""
+    local = {}
+    for k in range(1, found.count + 1):
+        mine = found.labels == k
+        owners = set()
+        if owner_grid is not None:
+            owners = {int(v) for v in np.unique(owner_grid[mine & coarse]) if v}
+        nodes = mine & keep
+        piece = None
+        if nodes.any():
+            iy, ix = np.nonzero(nodes)
+            peak = float(dist[nodes].max())
+            piece = _Piece(
+                x0 + (ix + 0.5) * h,
+                y0 + (iy + 0.5) * h,
+                np.full(len(ix), h),
+                (peak - 0.5) * h,
+                (at_floor and peak < RESOLVED_PEAK) or bool((mine & stopped).any()),
+            )
+        local[k] = (piece, owners)
+    return local
+
+
+def _affordable(zone, zoom):
+    """(zone without the clusters whose finer window would exceed ``MAX_WINDOW`` nodes, those clusters)."""
+    clusters, _ = ndimage.label(zone, np.ones((3, 3), dtype=bool))
+    stopped = np.zeros_like(zone)
+    for index, box in enumerate(ndimage.find_objects(clusters), start=1):
+        size = (box[0].stop - box[0].start + 2 * _PAD) * (box[1].stop - box[1].start + 2 * _PAD) * zoom * zoom
+        if size > MAX_WINDOW:
+            stopped[box] |= clusters[box] == index
+    return zone & ~stopped, stopped
+
+
+def _join(a, b):
+    if a is None or b is None:
+        return a if b is None else b
+    return a.joined(b)
+
+
+def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist):
+    """Look at each cluster of the zone ``ctx.zoom`` times finer; join what is found to the ``local`` pieces."""
+    z = ctx.zoom
+    clusters, _ = ndimage.label(zone, np.ones((3, 3), dtype=bool))
+    parent = {k: k for k in local}
+    pieces = {k: piece for k, (piece, _) in local.items()}
+
+    def root(k):
+        while parent[k] != k:
+            k = parent[k]
+        return k
+
+    new = []
+    up = np.ones((z, z), dtype=bool)
+    settled_labels = np.where(excluded & ~zone, labels, 0)
+    deep = excluded & (dist >= _DEEP)
+    for index, box in enumerate(ndimage.find_objects(clusters), start=1):
+        ys = slice(max(box[0].start - _PAD, 0), min(box[0].stop + _PAD, zone.shape[0]))
+        xs = slice(max(box[1].start - _PAD, 0), min(box[1].stop + _PAD, zone.shape[1]))
+        mine = clusters[ys, xs] == index
+        near = ndimage.binary_dilation(mine, np.ones((3, 3), dtype=bool))
+        sub = _window(
+            ctx,
+            x0 + xs.start * h,
+            y0 + ys.start * h,
+            h / z,
+            np.kron(near & ~deep[ys, xs], up).astype(bool),
+            np.kron(mine, up).astype(bool),
+            np.kron(excluded[ys, xs], up).astype(bool),
+            np.kron(settled_labels[ys, xs], up.astype(np.int64)),
+            assumed=np.kron(near & deep[ys, xs], up).astype(bool),
+        )
+        for piece, owners in sub:
+            roots = sorted({root(k) for k in owners if k in parent})
+            if not roots:
+                if piece is not None:
+                    new.append((piece, set()))
+                continue
+            for k in roots[1:]:  # a finer piece that joins two coarse ones: they are one
+                parent[k] = roots[0]
+            pieces[roots[0]] = _join(pieces[roots[0]], piece)
+    groups = {}
+    for k, (_, owners) in local.items():
+        r = root(k)
+        piece, above = groups.get(r, (None, set()))
+        groups[r] = (_join(piece, pieces[k]), above | owners)
+    return [g for g in groups.values() if g[0] is not None or g[1]] + new
+
+
+def _unsettled(excluded, uncertain, narrow, settled):
+    """Nodes whose count is not settled: thin excluded parts with the uncertain nodes next to them, and
+    clusters of uncertain nodes that touch no excluded node and have a narrow window (they might hold a
+    thin component: near the excluded set every window is narrow)."""
+    ring = np.ones((3, 3), dtype=bool)
+    thin = excluded & ~settled
+    near_thin = ndimage.binary_dilation(thin, ring) & (excluded | uncertain) if thin.any() else thin
+    alone = uncertain & ~settled & ~near_thin
+    clusters, count = ndimage.label(alone, ring)
+    if count:
+        touching = np.unique(clusters[ndimage.binary_dilation(excluded | settled, ring) & alone])
+        wide = np.setdiff1d(np.arange(1, count + 1), np.unique(clusters[alone & narrow]))
+        alone &= ~np.isin(clusters, np.union1d(touching[touching > 0], wide))
+    return near_thin | alone
+
+
+def _untapered(zone, known, thick, dist, h):
+    """``zone`` without its clusters that are tips of thick parts already looked at closely enough.
+
+    A cluster whose excluded nodes are joined (node to node) to an excluded
+    part at least ``RESOLVED_PEAK`` nodes thick is a tip, a bump or a thin
+    part of that body, or a thin component pinched to it; it is refined
+    until the cells are ``_TAPER`` times smaller than the body's inscribed
+    radius, which resolves pinched parts far thinner than the body, and then
+    left: a tip is thin down to its end and would be refined to the floor.
+    """
+    ring = np.ones((3, 3), dtype=bool)
+    parts, count = ndimage.label(known, ring)
+    if not count or not thick.any():
+        return zone
+    depth = ndimage.maximum(np.where(thick, dist, 0.0), parts, np.arange(1, count + 1)) * h  # b, 0: thin part
+    clusters, n = ndimage.label(zone, ring)
+    for index, box in enumerate(ndimage.find_objects(clusters), start=1):
+        mine = clusters[box] == index
+        touched = np.unique(parts[box][mine & known[box]])
+        touched = touched[touched > 0]
+        if len(touched) and depth[touched - 1].max() > _TAPER * h:
+            zone[box] &= ~mine
+    return zone
+
+
+def map_transitions(
+    family,
+    opening_range=(0.0, 2 * math.pi),
+    *,
+    step: float = math.radians(5),
+    tolerance: float = 0.005,
+    segments: int = DEFAULT_SEGMENTS,
+    base: int = BASE_CELLS,
+    floor: float = FLOOR,
+    progress: bool = False,
+) -> xr.Dataset:
+    """Where the count of excluded components (:func:`excluded_map`) changes with the opening Ψ.
+
+    Maps every ``step`` over ``opening_range`` (radians, Ψ < 2π kept), then
+    bisects each step whose count changes until the bracket is at most
+    ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``count(opening)`` and per component ``area``, ``inscribed_radius``,
+        ``touches_floor`` (opening, component; NaN / False beyond the count)
+        at every opening mapped; ``low``, ``high`` (rad), ``low_degrees``,
+        ``high_degrees``, ``count_low``, ``count_high`` per ``transition``.
+    """
+    lo, hi = (float(v) for v in opening_range)
+    if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
+        raise ValueError(
+            f"opening_range must satisfy 0 <= low < high (radians), step, tolerance > 0; got {opening_range}"
+        )
+    openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
+    openings = [float(o) for o in openings if o < 2 * math.pi]
+    make = opening_family(family)
+    maps = {}
+    with progress_bar(None, progress, "maps over Ψ", unit="map") as bar:
+
+        def count(opening):
+            if opening not in maps:
+                maps[opening] = excluded_map(make(opening), segments=segments, base=base, floor=floor)
+                bar.update(1)
+            return maps[opening].count
+
+        brackets = []
+        for a, b in zip(openings[:-1], openings[1:]):
+            brackets += _bisect(count, a, b, tolerance) if count(a) != count(b) else []
+        count(openings[-1])
+    return _transitions_dataset(maps, brackets, floor, base)
+
+
+def _bisect(count, low, high, tolerance):
+    """Brackets no wider than 2·tolerance around each change of ``count`` in [low, high]."""
+    if count(low) == count(high):
+        return []
+    if high - low <= 2 * tolerance:
+        return [(low, high)]
+    mid = 0.5 * (low + high)
+    return _bisect(count, low, mid, tolerance) + _bisect(count, mid, high, tolerance)
+
+
+def _transitions_dataset(maps, brackets, floor, base):
+    openings = sorted(maps)
+    width = max([maps[o].count for o in openings] + [1])
+    area = np.full((len(openings), width), np.nan)
+    radius = np.full((len(openings), width), np.nan)
+    at_floor = np.zeros((len(openings), width), dtype=bool)
+    for i, o in enumerate(openings):
+        for k, c in enumerate(maps[o].components):
+            area[i, k], radius[i, k], at_floor[i, k] = c.area, c.inscribed_radius, c.touches_floor
+    low = np.array([b[0] for b in brackets])
+    high = np.array([b[1] for b in brackets])
+    return xr.Dataset(
+        {
+            "count": ("opening", [maps[o].count for o in openings]),
+            "area": (("opening", "component"), area, {"units": "b^2"}),
+            "inscribed_radius": (("opening", "component"), radius, {"units": "b"}),
+            "touches_floor": (("opening", "component"), at_floor),
+            "low": ("transition", low, {"units": "rad"}),
+            "high": ("transition", high, {"units": "rad"}),
+            "low_degrees": ("transition", np.degrees(low), {"units": "degree"}),
+            "high_degrees": ("transition", np.degrees(high), {"units": "degree"}),
+            "count_low": ("transition", np.array([maps[b[0]].count for b in brackets], dtype=int)),
+            "count_high": ("transition", np.array([maps[b[1]].count for b in brackets], dtype=int)),
+        },
+        coords={
+            "opening": ("opening", openings, {"units": "rad", "long_name": "opening Ψ"}),
+            "opening_degrees": ("opening", np.degrees(openings), {"units": "degree"}),
+            "component": np.arange(1, width + 1),
+        },
+        attrs={"floor": floor, "base_cells": base, "quantity": "excluded (adaptive map, exact in phi)"},
+    )

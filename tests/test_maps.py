@@ -1,0 +1,190 @@
+"""Adaptive maps exact in φ: the widest window, the clearance certificate, components against exact sets."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from sesp import Polyline, SeSP, allowed_orientations
+from sesp.cli import main
+from sesp.kernels.orientations import widest_windows
+from sesp.maps import excluded_map, map_transitions, widest_window
+from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
+from sesp.pair import as_pair
+from sesp.topology import components
+
+ASP90 = SeSP(n=2, opening=math.radians(90))
+
+
+def test_widest_window_agrees_with_the_measure_and_a_fine_phi_sample():
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-2.2, 2.2, (2, 400))
+    width, middle = widest_window(ASP90, x, y, segments=64)
+    measure = allowed_orientations(ASP90, x, y, segments=64)
+    assert np.array_equal(width == 0, measure == 0)  # excluded exactly where nothing is allowed
+    assert np.all(width <= measure + 1e-12)
+    # for a few positions: a blocked-orientation sample on a fine φ grid finds no longer free run than W
+    pair = as_pair(ASP90, segments=64)
+    phis = np.linspace(0, 2 * np.pi, 2048, endpoint=False)
+    c, s = np.cos(phis), np.sin(phis)
+    for k in range(12):
+        blocked = []
+        for ck, sk in zip(c, s):
+            curve = pair.vertices2 @ np.array([[ck, sk], [-sk, ck]]) + (x[k], y[k])
+            blocked.append(_polylines_meet(pair.vertices1, curve))
+        blocked = np.array(blocked)
+        free = ~np.concatenate([blocked, blocked])
+        longest, run = 0, 0
+        for f in free:
+            run = run + 1 if f else 0
+            longest = max(longest, min(run, len(phis)))
+        step = 2 * np.pi / len(phis)
+        assert longest * step <= width[k] + 2 * step
+        assert width[k] <= (longest + 2) * step
+        if width[k] > 4 * step:  # its middle is allowed
+            i = int(round(middle[k] / step)) % len(phis)
+            assert not blocked[i]
+
+
+def _polylines_meet(a, b):
+    """Brute force: any segment of a crosses or touches any segment of b."""
+    p, q = a[:-1, None, :], a[1:, None, :]
+    u, v = b[None, :-1, :], b[None, 1:, :]
+
+    def cross(o, s, t):
+        return (s[..., 0] - o[..., 0]) * (t[..., 1] - o[..., 1]) - (s[..., 1] - o[..., 1]) * (t[..., 0] - o[..., 0])
+
+    return bool(np.any((cross(p, q, u) * cross(p, q, v) <= 0) & (cross(u, v, p) * cross(u, v, q) <= 0)))
+
+
+def _polyline_distance(a, b):
+    """Brute force: distance between two polylines (0 when they meet)."""
+    if _polylines_meet(a, b):
+        return 0.0
+
+    def point_segments(points, s):
+        d = s[1:] - s[:-1]
+        w = points[:, None, :] - s[None, :-1, :]
+        lam = np.clip((w * d).sum(-1) / (d * d).sum(-1), 0, 1)
+        return np.linalg.norm(w - lam[..., None] * d, axis=-1).min()
+
+    return min(point_segments(a, b), point_segments(b, a))
+
+
+def test_clearance_is_the_distance_between_the_curves_and_certifies_its_disk():
+    rng = np.random.default_rng(5)
+    pair = as_pair(SeSP(n=4, opening=math.radians(120)), segments=64)
+    x, y = rng.uniform(-2.5, 2.5, (2, 300))
+    caps = np.full(len(x), 10.0)
+    width, middle, clear = widest_windows(pair.vertices1, pair.vertices2, x, y, SCREEN_SLACK, ANGLE_GAP, 0.0, caps)
+    checked = 0
+    for k in np.flatnonzero(width > 0)[:40]:
+        c, s = math.cos(middle[k]), math.sin(middle[k])
+        curve = pair.vertices2 @ np.array([[c, s], [-s, c]]) + (x[k], y[k])
+        exact = _polyline_distance(pair.vertices1, curve)
+        assert clear[k] >= exact - 1e-12  # the largest over the tried orientations, the middle among them
+        # certificate: every point of the disk of radius clear[k] about t is allowed at some orientation
+        for angle in np.linspace(0, 2 * np.pi, 5, endpoint=False):
+            r = 0.999 * clear[k]
+            xs, ys = x[k] + r * math.cos(angle), y[k] + r * math.sin(angle)
+            assert allowed_orientations(pair, xs, ys) > 0
+        checked += 1
+    assert checked >= 20
+
+
+def test_asp_map_finds_the_exact_two_components_and_none_past_pi():
+    found = excluded_map(ASP90, base=64)
+    assert found.count == 2
+    lens = min(found.components, key=lambda c: c.area)
+    psi = ASP90.opening
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.03)  # README: the lens's exact area
+    cell = 2 * as_pair(ASP90).reach / 62
+    assert abs(lens.inscribed_radius - (1 - math.sin(psi / 2))) <= cell
+    assert 0 < lens.bbox[0] and lens.bbox[1] <= 2 * math.cos(psi / 2) + cell  # the lens lies on x > 0
+    assert excluded_map(SeSP(n=2, opening=math.radians(181)), base=64).count == 0
+
+
+@pytest.mark.parametrize("base", [64, 65])
+def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
+    found = excluded_map(SeSP(n=2, opening=math.radians(150)), base=base)
+    assert found.count == 2
+    lens = min(found.components, key=lambda c: c.area)
+    assert lens.area == pytest.approx((math.pi - math.radians(150)) - 0.5, rel=0.1)
+    assert not any(c.touches_floor for c in found.components)
+
+
+def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
+    """A hook has no symmetry axis; a fine exact-in-φ raster counted by the same pinch rule finds the same pieces."""
+    hook = Polyline([[-0.6, -0.5], [0.5, -0.5], [0.5, 0.6], [0.1, 0.6], [0.1, 0.1]])
+    pair = as_pair(hook, segments=64)
+    found = excluded_map(pair, base=64)
+    nodes = 320  # the small piece is about 0.03 b thick: coarser rasters (160, 241 nodes) merge it
+    step = 2 * pair.reach / nodes
+    side = (np.arange(nodes) - (nodes - 1) / 2) * step
+    x, y = np.meshgrid(side, side)
+    brute = components(allowed_orientations(pair, x, y) == 0, measure=step * step)
+    assert found.count == brute.count == 2
+    for k, comp in enumerate(found.components, start=1):
+        assert comp.area == pytest.approx(brute.areas[k - 1], rel=0.2)
+        cy, cx = ndimage.center_of_mass(brute.labels == k)
+        cx, cy = side[0] + cx * step, side[0] + cy * step
+        assert comp.bbox[0] <= cx <= comp.bbox[1] and comp.bbox[2] <= cy <= comp.bbox[3]
+    small = found.components[1]
+    assert abs(small.bbox[2] + small.bbox[3]) > 0.1 or abs(small.bbox[0] + small.bbox[1]) > 0.1  # off-centre
+
+
+def test_components_report_undecided_necks_only_when_asked():
+    y, x = np.mgrid[:80, :80]
+    mask = ((x - 25) ** 2 + (y - 40) ** 2 <= 14**2) | ((x - 55) ** 2 + (y - 40) ** 2 <= 14**2)
+    mask |= (np.abs(y - 40) <= 8) & (x > 30) & (x < 50)  # a neck 17 nodes wide between two disks of radius 14
+    assert components(mask).count == 1 and len(components(mask).necks) == 0
+    found = components(mask, neck=1.0)
+    assert found.count == 2  # kept apart for a finer look
+    assert len(found.necks) == 1 and set(found.necks[0, 1:3]) == {1, 2}
+    assert 8 <= found.necks[0, 3] <= 10
+
+
+def test_transitions_on_maps_bracket_the_asp_end_at_pi():
+    result = map_transitions(ASP90, (math.radians(170), math.radians(190)), step=math.radians(10), base=48,
+                             tolerance=math.radians(2.5), floor=1e-3)  # fmt: skip
+    assert list(result["count"].sel(opening=[math.radians(170), math.radians(190)]).values)[1] == 0
+    assert result.sizes["transition"] == 1
+    assert result.count_high.item() == 0
+    assert result.high_degrees.item() - result.low_degrees.item() <= 5.0
+    assert result.low_degrees.item() <= 180.0 <= result.high_degrees.item() + 2.5
+
+
+def test_cli_one_opening_as_json(capsys):
+    assert main(["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["opening_deg"] == 90 and out["count"] == 2
+    assert {"area", "inscribed_radius", "bbox", "touches_floor"} <= set(out["components"][0])
+
+
+def test_map_arguments_are_checked():
+    with pytest.raises(ValueError, match="base"):
+        excluded_map(ASP90, base=4)
+    with pytest.raises(ValueError, match="floor"):
+        excluded_map(ASP90, floor=0.0)
+    assert main(["topology", "--opening", "400", "--json"]) == 2
+
+
+def test_component_map_draws_each_component_in_its_colour():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from sesp.plot import component_map
+
+    found = excluded_map(ASP90, base=48)
+    fig, ax = plt.subplots(figsize=(4, 4), dpi=80)
+    component_map(found, ax=ax, particle=ASP90)
+    ax.get_legend().remove()
+    fig.canvas.draw()
+    image = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(int)
+    plt.close(fig)
+    for color in ((31, 119, 180), (255, 127, 14)):  # tab:blue (the body), tab:orange (the lens)
+        assert (np.abs(image - color).sum(axis=-1) < 30).sum() > 200
