@@ -198,14 +198,40 @@ def _segment_distances(vx0, vy0, vx1, vy1, x, y):
 
 @njit(**JIT)
 def radial_spans(v):
-    """(rin, rout, order): each segment's nearest and farthest distance from the curve's centre, and the
-    segments sorted by ``rin``. Rotated about its centre, segment j sweeps the annulus [rin[j], rout[j]]."""
+    """(rin, rout, order, sorted rin, widest rout − rin): each segment's nearest and farthest distance from the
+    curve's centre, and the segments sorted by ``rin``. Rotated about its centre, segment j sweeps the annulus
+    [rin[j], rout[j]]."""
     n = v.shape[0] - 1
     rin = np.empty(n)
     rout = np.empty(n)
+    widest = 0.0
     for j in range(n):
         rin[j], rout[j] = _segment_distances(v[j, 0], v[j, 1], v[j + 1, 0], v[j + 1, 1], 0.0, 0.0)
-    return rin, rout, np.argsort(rin, kind="mergesort")
+        widest = max(widest, rout[j] - rin[j])
+    order = np.argsort(rin, kind="mergesort")
+    return rin, rout, order, rin[order], widest
+
+
+@njit(**JIT)
+def _candidates(spans2, near, far, widen, out):
+    """Write to ``out`` the segments j of curve 2 whose annulus comes within ``widen`` of the distances
+    [near, far] of a segment of curve 1 from t (in order of rin); return how many.
+
+    With curve 2's segments sorted by rin they are one run of that order (rin
+    between near − widen − the widest annulus and far + widen): two binary
+    searches and a check of each.
+    """
+    rin, rout, order, sorted_rin, widest = spans2
+    first = np.searchsorted(sorted_rin, near - widen - widest, side="left")
+    last = np.searchsorted(sorted_rin, far + widen, side="right")
+    m = 0
+    for k in range(first, last):
+        j = order[k]
+        if near > rout[j] + widen or far < rin[j] - widen:
+            continue
+        out[m] = j
+        m += 1
+    return m
 
 
 @njit(**JIT)
@@ -234,26 +260,18 @@ def blocked_angles(v1, v2, spans2, tx, ty, slack, contact):
     its farthest distance), found by two binary searches: the work per
     position is O(N log N) plus the pairs that do meet at some φ.
     """
-    rin, rout, order = spans2
-    sorted_rin = rin[order]
-    widest = 0.0
-    for j in range(rin.shape[0]):
-        widest = max(widest, rout[j] - rin[j])
     widen = slack + contact
     cap = 64
     starts = np.empty(cap)
     ends = np.empty(cap)
     roots = np.empty(52)  # scratch for one pair's roots: at most 48, and 0 and 2π
+    candidates = np.empty(spans2[0].shape[0], dtype=np.int64)
     n = 0
     for i in range(v1.shape[0] - 1):
         px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
         near, far = _segment_distances(px, py, qx, qy, tx, ty)
-        first = np.searchsorted(sorted_rin, near - widen - widest, side="left")
-        last = np.searchsorted(sorted_rin, far + widen, side="right")
-        for k in range(first, last):
-            j = order[k]
-            if near > rout[j] + widen or far < rin[j] - widen:
-                continue
+        for k in range(_candidates(spans2, near, far, widen, candidates)):
+            j = candidates[k]
             starts, ends, cap = _grow(starts, ends, n, cap)
             ux, uy, vx, vy = v2[j, 0], v2[j, 1], v2[j + 1, 0], v2[j + 1, 1]
             if contact > 0.0:
@@ -328,23 +346,15 @@ def clearance(v1, v2, spans2, tx, ty, phi, cap):
     Only pairs whose annuli (as in :func:`blocked_angles`) come within ``cap``
     are measured: the others are farther apart than ``cap`` at every φ.
     """
-    rin, rout, order = spans2
-    sorted_rin = rin[order]
-    widest = 0.0
-    for j in range(rin.shape[0]):
-        widest = max(widest, rout[j] - rin[j])
     c = math.cos(phi)
     s = math.sin(phi)
     best2 = cap * cap
+    candidates = np.empty(spans2[0].shape[0], dtype=np.int64)
     for i in range(v1.shape[0] - 1):
         px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
         near, far = _segment_distances(px, py, qx, qy, tx, ty)
-        first = np.searchsorted(sorted_rin, near - cap - widest, side="left")
-        last = np.searchsorted(sorted_rin, far + cap, side="right")
-        for k in range(first, last):
-            j = order[k]
-            if near > rout[j] + cap or far < rin[j] - cap:
-                continue
+        for k in range(_candidates(spans2, near, far, cap, candidates)):
+            j = candidates[k]
             ax = tx + c * v2[j, 0] - s * v2[j, 1]
             ay = ty + s * v2[j, 0] + c * v2[j, 1]
             bx = tx + c * v2[j + 1, 0] - s * v2[j + 1, 1]
