@@ -323,19 +323,18 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     counted = evaluate if assumed is None else evaluate | assumed
     # The coarser window's excluded nodes around the refined cells take part in the count (pinches between
     # them and what is found here are judged by the same rule) and say which coarser component a piece is.
-    known = excluded
     dist = distance_to_complement(excluded, (), outside)
-    found = components(known, outside=outside, measure=h * h, neck=1.0, distance=dist)
+    found = components(excluded, outside=outside, measure=h * h, neck=1.0, distance=dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
-    zone = _untapered(_unsettled(known, uncertain, narrow, settled) & active, known, thick, dist, h)
+    zone = _untapered(_unsettled(excluded, uncertain, narrow, settled) & active, excluded, thick, dist, h)
     for node, a, b, s in found.necks:
         if a and b and a != b:
             iy, ix = divmod(int(node), zone.shape[1])
             r = int(math.ceil(s)) + 2
             near = np.zeros_like(zone)
             near[max(iy - r, 0) : iy + r + 1, max(ix - r, 0) : ix + r + 1] = True
-            zone |= near & (known | uncertain) & active
+            zone |= near & (excluded | uncertain) & active
     zone, stopped = _affordable(zone, ctx.zoom)
     at_floor = h / ctx.zoom < ctx.floor
     local = _local_pieces(found, dist, active & (~zone if not at_floor else True), owner_grid, ~active,
