@@ -3,12 +3,12 @@
 For n = 2, 4, 8, 10 at Ψ = 90° and 180° (N = 256 segments, 128 orientations), the maximum over φ of the
 relative error of A_ex(φ) against a converged reference, and the time, for
 
-* ``scanline_excluded_area`` at its default (128 line spacings, extrapolated), and
+* ``scanline_excluded_area`` at its default (512 line spacings, extrapolated), and
 * ``shifted_excluded_area`` on its default 256² lattice.
 
-The reference is the scanline quadrature at 2048 spacings; the first table checks it, and the default,
+The reference is the scanline quadrature at 8192 spacings; the first table checks it, and the default,
 against the exact A_ex(φ) of closed convex superellipses (the area of K ⊕ −R_φK, the convex hull of all
-vertex differences). The smooth ASP (``smooth_excluded_area``: 256, 128 and 64 segments, 1024 line
+vertex differences). The smooth ASP (``smooth_excluded_area``: 256, 128 and 64 segments, 2048 line
 spacings) is compared with two smooth circular arcs (``sesp.exact.arc_excluded_area``) at Ψ = 90°, 180°,
 270°. The coverage table counts how often the reported error bar of A_ex(φ) is at least the actual error,
 against the exact results (closed shapes, two aspects) and against the reference (open shapes).
@@ -24,10 +24,16 @@ from _common import best_of, machine, table
 
 from sesp import Grid, Pair, SeSP
 from sesp.exact import arc_excluded_area, minkowski_excluded_area
-from sesp.measures import scanline_excluded_area, shifted_excluded_area, smooth_excluded_area
+from sesp.measures import (
+    SCANLINE_ROWS,
+    SMOOTH_ROWS,
+    scanline_excluded_area,
+    shifted_excluded_area,
+    smooth_excluded_area,
+)
 
 SEGMENTS = 256
-REFERENCE_ROWS = 2048
+REFERENCE_ROWS = 8192
 
 
 def max_relative(values, reference) -> float:
@@ -81,9 +87,35 @@ def open_comparison(nphi):
     return rows, np.concatenate(cover), ratios
 
 
-def smooth_asp(nphi, rows=1024):
-    """The smooth ASP's orientation mean (extrapolated in N) against two smooth arcs, at the same φ."""
-    out = []
+def coverage_by_spacing(nphi, spacings=(128, 512, 2048), openings=(45, 90, 180, 270)):
+    """Per spacing: the fraction of per-φ errors (n = 2, 4, 8, 10 at the given openings, against the
+    reference) that the error bar covers, the largest and median error in units of its bar (bars above
+    rounding), and the bars at rounding level (all four trapezoid levels agreeing: a length piecewise linear
+    between the coarsest lines) under a nonzero error."""
+    rows = []
+    for spacing in spacings:
+        cover, ratio = [], []
+        for n in (2, 4, 8, 10):
+            for degrees in openings:
+                particle = SeSP(n=n, opening=math.radians(degrees))
+                ref = scanline_excluded_area(particle, nphi=nphi, segments=SEGMENTS, rows=REFERENCE_ROWS)
+                ds = scanline_excluded_area(particle, nphi=nphi, segments=SEGMENTS, rows=spacing)
+                error = np.abs(ds.excluded_area.values - ref.excluded_area.values)
+                bar = ds.excluded_area_error.values
+                cover.append(bar >= error)
+                some = bar > 1e-12 * ref.excluded_area.values  # a bar above rounding
+                ratio.append(np.where(some, error / np.where(some, bar, 1.0), np.where(error > 0, np.inf, 0.0)))
+        cover, ratio = np.concatenate(cover), np.concatenate(ratio)
+        finite = ratio[np.isfinite(ratio)]
+        rows.append([spacing, cover.size, f"{cover.mean():.3f}", f"{finite.max():.2f}", f"{np.median(finite):.3f}",
+                     int(np.isinf(ratio).sum())])  # fmt: skip
+    return rows
+
+
+def smooth_asp(nphi, rows=SMOOTH_ROWS):
+    """The smooth ASP's orientation mean (extrapolated in N) against two smooth arcs, at the same φ; and
+    whether each per-φ error bar covers the semi-analytic A_ex(φ)."""
+    out, cover = [], []
     for degrees in (90, 180, 270):
         opening = math.radians(degrees)
         seconds, ds = best_of(
@@ -91,12 +123,13 @@ def smooth_asp(nphi, rows=1024):
             repeat=1,
         )
         exact = np.array([arc_excluded_area(phi, opening, panels=300) for phi in ds.phi.values])
+        cover.append(ds.excluded_area_error.values >= np.abs(ds.excluded_area.values - exact))
         mean, bar = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
         out.append(
             [f"Ψ={degrees}°", f"{exact.mean():.7f}", f"{mean:.7f}", f"{mean / exact.mean() - 1:+.1e}",
              f"{bar / exact.mean():.1e}", f"{seconds:.2f}"]
         )  # fmt: skip
-    return out
+    return out, np.concatenate(cover)
 
 
 def main():
@@ -109,28 +142,38 @@ def main():
     print(f"N = {SEGMENTS} segments, {args.nphi} orientations; reference: scanlines at {REFERENCE_ROWS} spacings\n")
 
     closed_rows, closed_cover = closed_check(args.nphi)
-    table(closed_rows, ["exact A_ex(φ) (K ⊕ −R_φK)", "scanline 128: max rel err", "reference: max rel err"])
+    table(
+        closed_rows, ["exact A_ex(φ) (K ⊕ −R_φK)", f"scanline {SCANLINE_ROWS}: max rel err", "reference: max rel err"]
+    )
     print()
     open_rows, open_cover, ratios = open_comparison(args.nphi)
     table(
         open_rows,
-        ["shape", "scanline 128: max rel err", "its max error bar (rel)", "s", "shifted 256²: max rel err", "s",
-         "time scanline / shifted"],
+        ["shape", f"scanline {SCANLINE_ROWS}: max rel err", "its max error bar (rel)", "s",
+         "shifted 256²: max rel err", "s", "time scanline / shifted"],
     )  # fmt: skip
+    print()
+    smooth_rows, smooth_cover = smooth_asp(args.nphi)
+    table(
+        smooth_rows,
+        ["smooth ASP, mean over φ", "semi-analytic (b²)", "smooth_excluded_area", "rel err", "error bar (rel)", "s"],
+    )
     print()
     table(
         [
             ["closed convex, against exact (default and reference)", closed_cover.size, f"{closed_cover.mean():.3f}"],
             ["open Ψ = 90°, 180°, against the reference", open_cover.size, f"{open_cover.mean():.3f}"],
+            ["smooth ASP Ψ = 90°, 180°, 270°, against the semi-analytic arcs", smooth_cover.size,
+             f"{smooth_cover.mean():.3f}"],
         ],
         ["error-bar coverage of A_ex(φ)", "cases", "fraction covered"],
-    )
+    )  # fmt: skip
     print()
-    smooth_rows = smooth_asp(args.nphi)
     table(
-        smooth_rows,
-        ["smooth ASP, mean over φ", "semi-analytic (b²)", "smooth_excluded_area", "rel err", "error bar (rel)", "s"],
-    )
+        coverage_by_spacing(64),
+        ["line spacings (n = 2, 4, 8, 10; Ψ = 45°, 90°, 180°, 270°; 64 φ)", "cases", "fraction covered",
+         "largest error / bar", "median error / bar", "bar ~ 0, error > 0"],
+    )  # fmt: skip
     worst_smooth = max(abs(float(r[3])) for r in smooth_rows)
     worst = max(float(r[1]) for r in open_rows)
     print(f"\ntarget  per-φ relative error <= 1e-3 at every φ (open shapes): worst {worst:.1e}  "

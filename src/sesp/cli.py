@@ -86,7 +86,12 @@ def _add_area(sub):
     _add_shape_args(p)
     p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
     p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
-    p.add_argument("--rows", type=int, default=128, help="line spacings across the excluded set, a multiple of 8")
+    p.add_argument(
+        "--rows",
+        type=int,
+        default=None,
+        help="line spacings across the excluded set, a multiple of 8 (default 512; 2048 with --smooth)",
+    )
     p.add_argument(
         "--smooth", action="store_true", help="the smooth curve's A_ex: extrapolate over N, N/2, N/4 segments"
     )
@@ -102,7 +107,8 @@ def _cmd_area(args) -> int:
     particle = _shape_from_args(args, args.opening)
     how = smooth_excluded_area if args.smooth else scanline_excluded_area
     _announce_compile()
-    ds = how(particle, segments=args.segments, nphi=args.nphi, rows=args.rows)
+    rows = {} if args.rows is None else {"rows": args.rows}
+    ds = how(particle, segments=args.segments, nphi=args.nphi, **rows)
     mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
     if args.json:
         result = {

@@ -192,14 +192,24 @@ def scan_directions(phi) -> np.ndarray:
 SCANLINE_ORDER = 1.5
 
 
+# Line spacings across the excluded set by default: a line costs a few crossings, not N² cuts, so many are cheap.
+# The smooth particle's extrapolation in N magnifies the lines' error, so it takes more.
+SCANLINE_ROWS = 512
+SMOOTH_ROWS = 2048
+
+
 def scanline_excluded_area(
-    particle, *, other=None, segments: int = DEFAULT_SEGMENTS, nphi: int = 128, rows: int = 128
+    particle, *, other=None, segments: int = DEFAULT_SEGMENTS, nphi: int = 128, rows: int = SCANLINE_ROWS
 ) -> xr.Dataset:
     """A_ex(φ) by scanlines: exact along each line, extrapolated across them, with an error estimate; b².
 
     At each orientation φ the pair is turned so that the lines avoid the particles' axes
     (:func:`scan_directions`), ``rows`` + 1 equally spaced lines span the excluded set, and on each the
-    overlapping translations, a union of intervals, are measured exactly (:mod:`sesp.kernels.scanline`).
+    overlapping translations, a union of intervals, are measured exactly (:mod:`sesp.kernels.scanline`: the
+    count of segment pairs over each point of the line, from the crossings of the few edges that change it).
+    At the default 512 spacings A_ex(φ) of SeSPs with n = 2 to 10 at Ψ = 90° and 180° is within 2e-4 of a
+    converged reference at every φ, in less time than ``shifted_excluded_area`` on its 256² lattice
+    (``benchmarks/accuracy.py``).
     The lengths are integrated by the trapezoidal rule on the lines at spacings h, 2h, 4h and 8h (every
     line, every other, ...), and each two neighbouring results extrapolated with the error order
     :data:`SCANLINE_ORDER` (Richardson): the finest is the value, the changes between them the error.
@@ -274,7 +284,7 @@ def _area_dataset(phi, area, error, mean_error, attrs) -> xr.Dataset:
 
 
 def smooth_excluded_area(
-    particle, *, other=None, segments: int = DEFAULT_SEGMENTS, nphi: int = 128, rows: int = 128
+    particle, *, other=None, segments: int = DEFAULT_SEGMENTS, nphi: int = 128, rows: int = SMOOTH_ROWS
 ) -> xr.Dataset:
     """A_ex(φ) of the smooth SeSPs (not their polygons) by scanlines, with an error estimate; b².
 

@@ -1,16 +1,23 @@
 """Scanline kernels: the overlapping translations on lines y = const, measured exactly in x.
 
 At orientation φ the translations t at which segments i and j meet form the
-parallelogram P_ij = {c + λ d_i + μ f_j} (:mod:`sesp.kernels.overlap`), or, for
-thick particles, P_ij dilated by a disk of radius ``contact``. Each is
-convex, so a line y = const cuts it in one interval; the overlapping
-translations on the line are the union of those intervals, whose length is
-computed exactly (sorted and merged). Integrating that length over y gives
-A_ex(φ) with a quadrature that is exact in x: no lattice in x, so no error
-from flat sides lining up with one.
+parallelogram P_ij = {c + λ d_i + μ f_j} (:mod:`sesp.kernels.overlap`); the
+overlapping translations O are their union. On a line y = const the number of
+parallelograms over a point changes only where the line crosses an edge, and
+most edges are shared by two parallelograms on opposite sides, where the count
+does not change: only the edges at the curves' ends and the folds (where one
+curve's tangent turns through the direction of the other's segment) step it,
+of the order of N edges instead of N² parallelograms. Sorting a line's
+crossings and summing where the count is positive gives the length of O on
+the line, exactly. For thick particles the set is O dilated by the contact
+distance D, which is O together with the D-neighbourhood of its boundary, and
+the boundary lies on those same edges: the line's length is that of the union
+of O's pieces and the cuts of the edges' capsules (points within D of an
+edge). Integrating the length over y gives A_ex(φ) with a quadrature that is
+exact in x: no lattice in x, so no error from flat sides lining up with one.
 
-Parallel kernels run ``prange`` over φ; each φ is computed by one thread, so
-results do not depend on the thread count.
+Parallel kernels run ``prange`` over φ; each φ is computed by one thread, in a
+fixed order, so results do not depend on the thread count.
 """
 
 import math
@@ -22,13 +29,17 @@ from .common import JIT, rotate
 
 
 @njit(**JIT)
-def _cut_segment(ax, ay, bx, by, y, lo, hi):
-    """Widen [lo, hi] by where the segment a–b meets the line at height y."""
-    if (ay - y) * (by - y) > 0.0:
+def _cut_edge(ax, ay, ex, ey, y, lo, hi):
+    """Widen [lo, hi] by where the edge from a to a + e meets the line at height y."""
+    t = y - ay
+    if ey == 0.0:  # along the line, or apart from it
+        if t != 0.0:
+            return lo, hi
+        return min(lo, ax, ax + ex), max(hi, ax, ax + ex)
+    s = t / ey
+    if s < 0.0 or s > 1.0:
         return lo, hi
-    if ay == by:  # on the line
-        return min(lo, ax, bx), max(hi, ax, bx)
-    x = ax + (bx - ax) * (y - ay) / (by - ay)
+    x = ax + ex * s
     return min(lo, x), max(hi, x)
 
 
@@ -43,137 +54,219 @@ def _cut_disk(cx, cy, r, y, lo, hi):
 
 
 @njit(**JIT)
-def _cut_polygon4(px, py, y, lo, hi):
-    """Widen [lo, hi] by the cut of the convex quadrilateral (px[k], py[k]), k = 0..3, at height y."""
-    for k in range(4):
-        m = (k + 1) % 4
-        lo, hi = _cut_segment(px[k], py[k], px[m], py[m], y, lo, hi)
-    return lo, hi
-
-
-@njit(**JIT)
-def pair_cut(cx, cy, dx, dy, fx, fy, contact, y, px, py, qx, qy):
-    """The interval of x at which the line at height y meets P_ij dilated by ``contact`` (empty: lo > hi).
-
-    P_ij ⊕ disk is the union of P_ij, each edge's rectangle of half-width ``contact`` and the four corner
-    disks; being convex, its cut is the hull of the pieces' cuts. ``px, py, qx, qy`` are scratch arrays of 4.
-    """
-    px[0], py[0] = cx, cy
-    px[1], py[1] = cx + dx, cy + dy
-    px[2], py[2] = cx + dx + fx, cy + dy + fy
-    px[3], py[3] = cx + fx, cy + fy
-    lo, hi = _cut_polygon4(px, py, y, math.inf, -math.inf)
-    if contact == 0.0:
+def capsule_cut(px, py, qx, qy, contact, y):
+    """The interval of x at which the line at height y meets the points within ``contact`` of the edge from
+    p to q (empty: lo > hi): the hull of the cuts of the end disks and of the rectangle between them."""
+    lo, hi = _cut_disk(px, py, contact, y, math.inf, -math.inf)
+    lo, hi = _cut_disk(qx, qy, contact, y, lo, hi)
+    ex, ey = qx - px, qy - py
+    length = math.hypot(ex, ey)
+    if length == 0.0:
         return lo, hi
-    for k in range(4):
-        lo, hi = _cut_disk(px[k], py[k], contact, y, lo, hi)
-        m = (k + 1) % 4
-        ex, ey = px[m] - px[k], py[m] - py[k]
-        length = math.hypot(ex, ey)
-        if length == 0.0:
-            continue
-        nx, ny = -ey / length * contact, ex / length * contact
-        qx[0], qy[0] = px[k] + nx, py[k] + ny
-        qx[1], qy[1] = px[m] + nx, py[m] + ny
-        qx[2], qy[2] = px[m] - nx, py[m] - ny
-        qx[3], qy[3] = px[k] - nx, py[k] - ny
-        lo, hi = _cut_polygon4(qx, qy, y, lo, hi)
-    return lo, hi
+    nx, ny = -ey / length * contact, ex / length * contact
+    ox, oy = px - nx, py - ny  # the rectangle o + λe + μ·2n, λ, μ ∈ [0, 1]
+    lo, hi = _cut_edge(ox, oy, ex, ey, y, lo, hi)
+    lo, hi = _cut_edge(ox, oy, 2.0 * nx, 2.0 * ny, y, lo, hi)
+    lo, hi = _cut_edge(ox + ex, oy + ey, 2.0 * nx, 2.0 * ny, y, lo, hi)
+    return _cut_edge(ox + 2.0 * nx, oy + 2.0 * ny, ex, ey, y, lo, hi)
 
 
 @njit(**JIT)
-def union_length(starts, ends):
-    """Total length of the union of the intervals [starts[k], ends[k]] (empty ones, start > end, ignored)."""
-    order = np.argsort(starts)
+def _sign(value):
+    return (value > 0.0) - (value < 0.0)
+
+
+@njit(**JIT)
+def _record(table, size, line, a, b):
+    """Append (line, a, b) to ``table`` (3, capacity), growing it when full."""
+    if size == table.shape[1]:
+        grown = np.empty((3, 2 * size))
+        grown[:, :size] = table
+        table = grown
+    table[0, size], table[1, size], table[2, size] = line, a, b
+    return table, size + 1
+
+
+@njit(**JIT)
+def _cross_edge(crossings, size, y0, h, rows, px, py, qx, qy, step):
+    """Record where the edge from p to q crosses the lines, with the step of the count of parallelograms as
+    x grows past it: (line, x, step) appended to ``crossings``.
+
+    An edge holds the heights min ≤ y < max (half-open), so a line through a corner shared by two edges
+    crosses one of them, and every parallelogram is crossed twice or not at all; the corners are the same
+    numbers a_i − b_j in every edge that has them. Edges along the lines hold no height."""
+    low, high = min(py, qy), max(py, qy)
+    for r in range(max(0, int(math.ceil((low - y0) / h)) - 1), min(rows - 1, int(math.floor((high - y0) / h)) + 1) + 1):
+        y = y0 + r * h  # the range above may be one line off by rounding; the test below is exact
+        if low <= y < high:
+            crossings, size = _record(crossings, size, r, px + (qx - px) * ((y - py) / (qy - py)), step)
+    return crossings, size
+
+
+@njit(**JIT)
+def _stepping_edges(a1, b2, y0, h, rows, keep):
+    """The crossings of the lines with the edges of the parallelograms P_ij that step the count, and, if
+    ``keep``, those edges themselves: ``(crossings (3, m): line, x, step; m; edges (4, e): p, q; e)``.
+
+    P_ij, spanned by d = a_i+1 − a_i and f = b_j − b_j+1 from a_i − b_j, lies on the side σ_ij =
+    sign(d × f) of its edges (a_i .. a_i+1) − b_j and a_i+1 − (b_j .. b_j+1), and on the other side of the
+    two opposite ones; an edge steps the count by the difference of the σ of its two parallelograms (0 past
+    the curves' ends), signed by the direction it is crossed in. One sign per pair fixes every step. A flat
+    P_ij (σ_ij = 0, as when two segments are parallel at φ = π) has no area and steps nothing, but a
+    segment of O may stick out there, so its edges are kept too.
+    """
+    n1, n2 = a1.shape[0] - 1, b2.shape[0] - 1
+    crossings = np.empty((3, 16 * (n1 + n2) + 16))
+    size = 0
+    edges = np.empty((4, 4 * (n1 + n2) + 16 if keep else 0))
+    kept = 0
+    fx = b2[:-1, 0] - b2[1:, 0]  # f_j
+    fy = b2[:-1, 1] - b2[1:, 1]
+    previous = np.zeros(n2 + 2, dtype=np.int64)  # σ_i-1,j at j + 1; 0 past the ends
+    current = np.zeros(n2 + 2, dtype=np.int64)
+    for i in range(n1 + 1):  # vertex i of curve 1, and segment i if i < n1
+        ax, ay = a1[i, 0], a1[i, 1]
+        if i < n1:
+            dx, dy = a1[i + 1, 0] - ax, a1[i + 1, 1] - ay
+            for j in range(n2):
+                current[j + 1] = _sign(dx * fy[j] - dy * fx[j])
+        else:
+            dx, dy = 0.0, 0.0
+            current[:] = 0
+        for j in range(n2 + 1):
+            here = current[j + 1]
+            if here == previous[j + 1] and here == current[j] and (here != 0 or not keep):
+                continue
+            px, py = ax - b2[j, 0], ay - b2[j, 1]  # a_i − b_j
+            if j < n2 and here != previous[j + 1]:  # a_i − (b_j .. b_j+1): P_i-1,j on side σ, P_ij on side −σ
+                qx, qy = ax - b2[j + 1, 0], ay - b2[j + 1, 1]
+                if fy[j] != 0.0:
+                    step = -_sign(fy[j]) * (previous[j + 1] - here)
+                    crossings, size = _cross_edge(crossings, size, y0, h, rows, px, py, qx, qy, step)
+                if keep:
+                    edges, kept = _keep(edges, kept, px, py, qx, qy)
+            if here != current[j]:  # (a_i .. a_i+1) − b_j: P_ij on side σ, P_i,j-1 on side −σ
+                qx, qy = a1[i + 1, 0] - b2[j, 0], a1[i + 1, 1] - b2[j, 1]  # a_i+1 − b_j, as in every edge
+                if dy != 0.0:
+                    step = -_sign(dy) * (here - current[j])
+                    crossings, size = _cross_edge(crossings, size, y0, h, rows, px, py, qx, qy, step)
+                if keep:
+                    edges, kept = _keep(edges, kept, px, py, qx, qy)
+            if keep and here == 0 and j < n2 and i < n1:  # P_ij flat (d ∥ f): a segment, maybe sticking out of O
+                edges, kept = _keep_flat(edges, kept, a1, b2, i, j)
+        previous, current = current, previous
+    return crossings, size, edges, kept
+
+
+@njit(**JIT)
+def _keep(edges, kept, px, py, qx, qy):
+    """Append the edge from p to q to ``edges`` (4, capacity), growing it when full."""
+    if kept == edges.shape[1]:
+        grown = np.empty((4, 2 * kept))
+        grown[:, :kept] = edges
+        edges = grown
+    edges[0, kept], edges[1, kept], edges[2, kept], edges[3, kept] = px, py, qx, qy
+    return edges, kept + 1
+
+
+@njit(**JIT)
+def _keep_flat(edges, kept, a1, b2, i, j):
+    """Keep the flat P_ij as edges from its corners a_i+u − b_j+v to a_i+1 − b_j+1 (they cover the segment)."""
+    qx, qy = a1[i + 1, 0] - b2[j + 1, 0], a1[i + 1, 1] - b2[j + 1, 1]
+    for u, v in ((0, 0), (1, 0), (0, 1)):
+        edges, kept = _keep(edges, kept, a1[i + u, 0] - b2[j + v, 0], a1[i + u, 1] - b2[j + v, 1], qx, qy)
+    return edges, kept
+
+
+@njit(**JIT)
+def _by_line(table, size, rows):
+    """Group the records (line, a, b) of ``table[:, :size]`` by line, keeping their order within a line
+    (counting sort): ``(start (rows + 1), a, b)``, line r's records at start[r] .. start[r + 1]."""
+    start = np.zeros(rows + 1, dtype=np.int64)
+    for k in range(size):
+        start[int(table[0, k]) + 1] += 1
+    for r in range(rows):
+        start[r + 1] += start[r]
+    fill = start[:rows].copy()
+    a, b = np.empty(size), np.empty(size)
+    for k in range(size):
+        r = int(table[0, k])
+        a[fill[r]], b[fill[r]] = table[1, k], table[2, k]
+        fill[r] += 1
+    return start, a, b
+
+
+@njit(**JIT)
+def _sort_together(keys, values, lo, hi):
+    """Sort ``keys[lo:hi]``, and ``values`` with them, in place (stable; insertion sort for the few crossings a
+    line of a SeSP pair holds)."""
+    if hi - lo > 64:
+        order = np.argsort(keys[lo:hi], kind="mergesort")
+        keys[lo:hi], values[lo:hi] = keys[lo:hi][order], values[lo:hi][order]
+        return
+    for k in range(lo + 1, hi):
+        key, value = keys[k], values[k]
+        m = k
+        while m > lo and keys[m - 1] > key:
+            keys[m], values[m] = keys[m - 1], values[m - 1]
+            m -= 1
+        keys[m], values[m] = key, value
+
+
+@njit(**JIT)
+def _union_length(lows, highs):
+    """Total length of the union of the intervals [lows[k], highs[k]]."""
+    order = np.argsort(lows, kind="mergesort")
     total = 0.0
     lo, hi = math.inf, -math.inf
     for k in order:
-        if starts[k] > ends[k]:
-            continue
-        if starts[k] > hi:
+        if lows[k] > hi:
             if hi > lo:
                 total += hi - lo
-            lo, hi = starts[k], ends[k]
-        elif ends[k] > hi:
-            hi = ends[k]
+            lo, hi = lows[k], highs[k]
+        elif highs[k] > hi:
+            hi = highs[k]
     return total + hi - lo if hi > lo else total
-
-
-@njit(**JIT)
-def _pair_rows(a1, b2, i, j, y0, h, contact, rows):
-    """The lines r0 .. r1 that may cut P_ij (dilated by ``contact``)."""
-    cy = a1[i, 1] - b2[j, 1]
-    dy, fy = a1[i + 1, 1] - a1[i, 1], b2[j, 1] - b2[j + 1, 1]
-    ymin = cy + min(0.0, dy) + min(0.0, fy) - contact
-    ymax = cy + max(0.0, dy) + max(0.0, fy) + contact
-    return max(0, int(math.ceil((ymin - y0) / h))), min(rows - 1, int(math.floor((ymax - y0) / h)))
-
-
-@njit(**JIT)
-def _emit(pieces, size, r, lo, hi):
-    """Append the piece [lo, hi] of line r to ``pieces`` (3, capacity), growing it when full."""
-    if size == pieces.shape[1]:
-        grown = np.empty((3, 2 * size))
-        grown[:, :size] = pieces
-        pieces = grown
-    pieces[0, size], pieces[1, size], pieces[2, size] = r, lo, hi
-    return pieces, size + 1
 
 
 @njit(**JIT)
 def row_lengths(a1, b2, y0, h, contact, out):
     """``out[r]`` = length of the overlapping translations on the line y = y0 + r·h, for curve 1 at ``a1`` and
-    curve 2 at ``b2`` (both already rotated).
+    curve 2 at ``b2`` (both already rotated), at contact distance ``contact``.
 
-    For one segment i of curve 1 the parallelograms of consecutive segments j share an edge, so their cuts
-    of a line mostly overlap: they are merged as they come (a running interval per line), and only the
-    merged pieces are grouped by line, sorted and joined.
+    The count of parallelograms over each point of the line steps at the crossings of
+    :func:`_stepping_edges`; where it is positive the point is in O. With a contact distance the pieces of
+    O and the cuts of the stepping edges' capsules are joined instead.
     """
-    n1, n2 = a1.shape[0] - 1, b2.shape[0] - 1
     rows = out.shape[0]
-    pieces = np.empty((3, 4 * n1 * rows + 16))  # line, start, end of each merged piece
-    size = 0
-    run_lo = np.full(rows, math.inf)
-    run_hi = np.full(rows, -math.inf)
-    px, py, qx, qy = np.empty(4), np.empty(4), np.empty(4), np.empty(4)
-    for i in range(n1):
-        dx, dy = a1[i + 1, 0] - a1[i, 0], a1[i + 1, 1] - a1[i, 1]
-        for j in range(n2):
-            cx, cy = a1[i, 0] - b2[j, 0], a1[i, 1] - b2[j, 1]
-            fx, fy = b2[j, 0] - b2[j + 1, 0], b2[j, 1] - b2[j + 1, 1]
-            ymin = cy + min(0.0, dy) + min(0.0, fy) - contact
-            ymax = cy + max(0.0, dy) + max(0.0, fy) + contact
-            r0 = max(0, int(math.ceil((ymin - y0) / h)))
-            r1 = min(rows - 1, int(math.floor((ymax - y0) / h)))
-            for r in range(r0, r1 + 1):
-                lo, hi = pair_cut(cx, cy, dx, dy, fx, fy, contact, y0 + r * h, px, py, qx, qy)
-                if lo > hi:
-                    continue
-                if lo <= run_hi[r] and hi >= run_lo[r]:  # overlaps the running piece: extend it
-                    run_lo[r] = min(run_lo[r], lo)
-                    run_hi[r] = max(run_hi[r], hi)
-                    continue
-                if run_lo[r] <= run_hi[r]:
-                    pieces, size = _emit(pieces, size, r, run_lo[r], run_hi[r])
-                run_lo[r], run_hi[r] = lo, hi
-        for r in range(rows):  # the next segment i starts its own pieces
-            if run_lo[r] <= run_hi[r]:
-                pieces, size = _emit(pieces, size, r, run_lo[r], run_hi[r])
-                run_lo[r], run_hi[r] = math.inf, -math.inf
-    # group the pieces by line (counting sort), then join each line's
-    start = np.zeros(rows + 1, dtype=np.int64)
-    for k in range(size):
-        start[int(pieces[0, k]) + 1] += 1
+    crossings, size, edges, kept = _stepping_edges(a1, b2, y0, h, rows, contact > 0.0)
+    start, xs, steps = _by_line(crossings, size, rows)
+    pieces = np.empty((3, size + 16 if contact > 0.0 else 0))
+    count_pieces = 0
     for r in range(rows):
-        start[r + 1] += start[r]
-    fill = start[:rows].copy()
-    lows, highs = np.empty(size), np.empty(size)
-    for k in range(size):
-        r = int(pieces[0, k])
-        lows[fill[r]], highs[fill[r]] = pieces[1, k], pieces[2, k]
-        fill[r] += 1
+        _sort_together(xs, steps, start[r], start[r + 1])
+        total, count, opened = 0.0, 0, 0.0
+        for k in range(start[r], start[r + 1]):
+            if count == 0:
+                opened = xs[k]
+            count += int(steps[k])
+            if count == 0 and xs[k] > opened:  # a piece of O ends
+                total += xs[k] - opened
+                if contact > 0.0:
+                    pieces, count_pieces = _record(pieces, count_pieces, r, opened, xs[k])
+        out[r] = total
+    if contact == 0.0:
+        return
+    for k in range(kept):
+        px, py, qx, qy = edges[0, k], edges[1, k], edges[2, k], edges[3, k]
+        low, high = min(py, qy) - contact, max(py, qy) + contact
+        for r in range(max(0, int(math.ceil((low - y0) / h))), min(rows - 1, int(math.floor((high - y0) / h))) + 1):
+            lo, hi = capsule_cut(px, py, qx, qy, contact, y0 + r * h)
+            if lo <= hi:
+                pieces, count_pieces = _record(pieces, count_pieces, r, lo, hi)
+    start, lows, highs = _by_line(pieces, count_pieces, rows)
     for r in range(rows):
-        out[r] = union_length(lows[start[r] : start[r + 1]], highs[start[r] : start[r + 1]])
+        out[r] = _union_length(lows[start[r] : start[r + 1]], highs[start[r] : start[r + 1]])
 
 
 @njit(**JIT, parallel=True)
