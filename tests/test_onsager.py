@@ -44,6 +44,22 @@ def test_needle_spectrum_from_exact_samples_and_its_error_bars():
         np.testing.assert_allclose(spectrum.b, 0, atol=1e-12)  # even in φ
 
 
+def test_correlated_error_bars_bound_a_shared_error():
+    """An error δ that every A_ex(φ) shares (a bias) moves a_0 by 2δ: the correlated propagation gives exactly
+    that bound, the independent propagation far less; for k > 0 the bound is (2/nphi) Σ δ |cos kφ|."""
+    nphi, delta = 64, 0.01
+    area = _uniform(lambda p: 3.0 + np.cos(2 * p), nphi)
+    error = xr.full_like(area, delta)
+    bound = orientational_spectrum(area, 4, error=error, correlated=True)
+    independent = orientational_spectrum(area, 4, error=error)
+    biased = orientational_spectrum(area + delta, 4, error=0)
+    shift = abs(float(biased.a.sel(k=0) - bound.a.sel(k=0)))
+    assert shift == pytest.approx(2 * delta) and float(bound.a_error.sel(k=0)) == pytest.approx(2 * delta)
+    assert float(independent.a_error.sel(k=0)) < 0.5 * shift
+    expected = 2 / nphi * delta * np.abs(np.cos(2 * area.phi.values)).sum()
+    assert float(bound.a_error.sel(k=2)) == pytest.approx(expected)
+
+
 def test_needles_scanned_give_the_onsager_nematic_bifurcation():
     area = shifted_excluded_area(NEEDLE, Grid(512, nphi=256))
     assert float(second_virial(area)) * 2 == pytest.approx(2 * L**2 / math.pi, rel=1e-3)

@@ -78,6 +78,21 @@ def test_excluded_area_curve_and_panels(sweep_ds, tmp_path):
     assert_not_blank(_save(fig, tmp_path / "p.png"))
 
 
+def test_curves_shade_their_error_bars(sweep_ds, tmp_path):
+    """The stored error bars are drawn as bands: invisible at their true size (1e-4 of A_ex), so here made
+    large; the band's pale shade of the line colour then covers many pixels."""
+
+    def pale_pixels(ds):
+        path = _save(plot.excluded_area_curve(ds, ax=plt.figure(figsize=(5, 4)).gca()), tmp_path / "e.png")
+        pixels = _pixels(path)
+        pale_blue = (np.abs(pixels - np.array([0.70, 0.82, 0.91])) < 0.06).all(axis=1)  # C0 at alpha 0.3
+        return int(pale_blue.sum())
+
+    assert "mean_normalized_excluded_area_error" in sweep_ds
+    widened = sweep_ds.assign(mean_normalized_excluded_area_error=sweep_ds.mean_normalized_excluded_area * 0 + 0.1)
+    assert pale_pixels(sweep_ds) < 50 < pale_pixels(widened)
+
+
 def test_topology_plot(sweep_ds, tmp_path):
     assert_not_blank(_save(plot.topology_plot(sweep_ds), tmp_path / "t.png"))
 

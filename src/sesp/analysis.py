@@ -11,14 +11,15 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
-from .measures import closed_pair_excluded_area
+from .measures import SCANLINE_ROWS, closed_pair_excluded_area, scanline_excluded_area, smooth_excluded_area
 from .onsager import onsager_variables
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
-from .shape import DEFAULT_SEGMENTS
+from .shape import DEFAULT_SEGMENTS, SeSP
 from .topology import excluded_components
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
@@ -31,10 +32,18 @@ PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "cl
 SUMMARY_BYTES_PER_POSITION = 64
 
 
+def needs_lattice(keep) -> bool:
+    """Whether keeping ``keep`` takes a pass over the lattice (fields, classes, components); A_ex(φ) alone
+    comes from scanlines and does not."""
+    return any(k != "excluded_area" for k in check_keep(keep))
+
+
 def check_memory(grid: Grid, keep, limit: int | None = None) -> None:
     """Raise ``MemoryError`` before any work if an analysis keeping ``keep`` would not fit in ``limit`` bytes
     (default half the available memory): stored fields, one chunk of working buffers, per-position sums."""
     keep = check_keep(keep)
+    if not needs_lattice(keep):
+        return
     fields = tuple(k for k in FIELD_KEEP if k in keep)
     computed = ("allowed",) + ("crossings",) * ("crossings" in keep)
     computed += ("entangled",) * ("entangled" in keep or "classes" in keep)
@@ -73,14 +82,25 @@ def analyze(
     keep : sequence of str
         What to return, any of:
 
-        * ``"excluded_area"``: always returned: ``excluded_area(phi)`` (b²),
-          ``normalized_excluded_area(phi)``, their orientation means
-          ``mean_excluded_area``, ``mean_normalized_excluded_area``, and
-          ``closed_excluded_area`` (b², the reference of the normalisation;
-          NaN for polylines, which have no closed shape); and what
-          :func:`sesp.onsager.onsager_variables` derives from A_ex(φ): the
-          second virial coefficient, the orientational spectrum over ``k``
-          and the isotropic instabilities over ``order``, with error bars;
+        * ``"excluded_area"``: always returned: ``excluded_area(phi)`` (b²) at the
+          grid's orientations by scanlines, exact along lines, the best estimate
+          sesp has: of the smooth curves for two SeSPs
+          (:func:`sesp.smooth_excluded_area` at 512 line spacings; ``segments`` a
+          multiple of 4), of
+          the polygons otherwise (:func:`sesp.scanline_excluded_area`;
+          attribute ``excluded_area_of``), with its error bar
+          ``excluded_area_error(phi)``, ``normalized_excluded_area(phi)``, the
+          orientation means ``mean_excluded_area`` (± ``mean_excluded_area_error``)
+          and ``mean_normalized_excluded_area``, and ``closed_excluded_area``
+          (b², the reference of the normalisation; NaN for polylines, which have
+          no closed shape); and what :func:`sesp.onsager.onsager_variables`
+          derives from A_ex(φ): the second virial coefficient (±
+          ``second_virial_coefficient_error``), the orientational spectrum over
+          ``k`` and the isotropic instabilities over ``order``, with error bars
+          that hold whatever the correlation of the per-φ errors. Kept alone it
+          takes no pass over the lattice (the grid's nx, ny are not used); with
+          anything else the lattice's own count is there too, as
+          ``lattice_excluded_area(phi)``, the A_ex of the classes and the field;
         * ``"classes"``: ``classes``, ``allowed_fraction``, ``mean_orientation``
           and ``orientation_order`` over (y, x), and the entangled area
           ``entangled_area(phi)`` and ``mean_entangled_area`` (b²) (runs the
@@ -113,20 +133,16 @@ def analyze(
     keep = check_keep(keep)
     pair = as_pair(particle, other, segments)
     grid = resolve_grid(pair, grid)
-    fields = tuple(k for k in FIELD_KEEP if k in keep)
     check_memory(grid, keep, memory_limit)
-    reductions = []
-    if fields:
-        reductions.append(StoredField(fields))
-    per_position = "classes" in keep or "topology" in keep
-    reductions.append(PositionSummary(entangled="classes" in keep) if per_position else ExcludedAreaByPhi())
-    if "classes" in keep:
-        reductions.append(EntangledAreaByPhi())
-    kind = "sesp.scan" if fields else "sesp.summary"
-    ds = reduce(pair, grid, reductions, engine=engine, kind=kind, progress=progress)
+    ds = _lattice_pass(pair, grid, keep, engine, progress) if needs_lattice(keep) else _no_pass(pair, grid)
+    _add_excluded_area(ds, pair, grid)
     _add_normalized(ds, pair, grid)
-    for name, value in onsager_variables(ds.excluded_area).items():
+    correlated = ds.excluded_area_error  # bounds, not independent errors
+    for name, value in onsager_variables(ds.excluded_area, error=correlated, correlated=True).items():
         ds[name] = value
+    ds["second_virial_coefficient_error"] = (ds.mean_excluded_area_error / 2).assign_attrs(
+        units="b^2", long_name="error bar of B2"
+    )
     if "entangled_area" in ds:
         ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
             units="b^2", long_name="orientation-averaged entangled area A_ent"
@@ -136,6 +152,46 @@ def analyze(
     if "classes" not in keep:
         ds = ds.drop_vars([v for v in PER_POSITION if v in ds])
     return ds
+
+
+def _lattice_pass(pair, grid, keep, engine, progress) -> xr.Dataset:
+    """One pass over the lattice for the fields, classes and components kept; its A_ex(φ) count is
+    ``lattice_excluded_area``."""
+    fields = tuple(k for k in FIELD_KEEP if k in keep)
+    reductions = [StoredField(fields)] if fields else []
+    per_position = "classes" in keep or "topology" in keep
+    reductions.append(PositionSummary(entangled="classes" in keep) if per_position else ExcludedAreaByPhi())
+    if "classes" in keep:
+        reductions.append(EntangledAreaByPhi())
+    kind = "sesp.scan" if fields else "sesp.summary"
+    ds = reduce(pair, grid, reductions, engine=engine, kind=kind, progress=progress)
+    lattice = ds.excluded_area.assign_attrs(long_name="A_ex(φ) counted on the lattice (the field's)")
+    return ds.drop_vars("excluded_area").assign(lattice_excluded_area=lattice)
+
+
+def _no_pass(pair, grid) -> xr.Dataset:
+    """The summary's frame without a lattice pass: the pair, the grid's orientations, the attributes."""
+    attrs = {**base_attrs("sesp.summary"), **pair_attrs(pair), **grid_attrs(grid)}
+    return xr.Dataset(pair_variables(pair), coords=coords(grid, ["phi"]), attrs=attrs)
+
+
+def _add_excluded_area(ds, pair, grid):
+    """A_ex(φ) by scanlines at the grid's orientations, with error bars, in place: of the smooth curves for
+    two SeSPs (extrapolated in the number of segments, which must then be a multiple of 4, at least 16), of
+    the polygons otherwise; the attribute ``excluded_area_of`` says which."""
+    smooth = isinstance(pair.particle, SeSP) and isinstance(pair.other, SeSP)
+    smooth = smooth and pair.segments % 4 == 0 and pair.segments >= 16
+    if smooth:
+        other = None if pair.other is pair.particle else pair.other
+        lines = smooth_excluded_area(
+            pair.particle, other=other, segments=pair.segments, nphi=grid.nphi, rows=SCANLINE_ROWS
+        )
+    else:
+        lines = scanline_excluded_area(pair, nphi=grid.nphi)
+    for name in ("excluded_area", "excluded_area_error", "mean_excluded_area", "mean_excluded_area_error"):
+        ds[name] = lines[name].assign_coords(phi=ds.phi) if "phi" in lines[name].dims else lines[name]
+    ds.attrs["excluded_area_of"] = "smooth curves" if smooth else f"polygons of {pair.segments} segments"
+    ds.attrs["scanline_rows"] = lines.attrs["rows"]
 
 
 def _add_normalized(ds, pair, grid):
@@ -148,9 +204,14 @@ def _add_normalized(ds, pair, grid):
     ds["normalized_excluded_area"] = (area / reference).assign_attrs(
         units="1", long_name="A_ex(φ) / A_ex of the closed shape"
     )
-    ds["mean_excluded_area"] = area.mean("phi").assign_attrs(units="b^2", long_name="orientation-averaged A_ex")
+    ds["normalized_excluded_area_error"] = (ds.excluded_area_error / reference).assign_attrs(
+        units="1", long_name="error bar of A_ex(φ) / A_ex of the closed shape"
+    )
     ds["mean_normalized_excluded_area"] = (area.mean("phi") / reference).assign_attrs(
         units="1", long_name="orientation-averaged A_ex / A_ex of the closed shape"
+    )
+    ds["mean_normalized_excluded_area_error"] = (ds.mean_excluded_area_error / reference).assign_attrs(
+        units="1", long_name="error bar of the orientation-averaged A_ex / A_ex of the closed shape"
     )
     ds["closed_excluded_area"] = xr.DataArray(
         reference, attrs={"units": "b^2", "long_name": "orientation-averaged A_ex of the closed shape"}

@@ -27,7 +27,9 @@ bar of each coefficient combines two parts:
   pairs: only half the slices are computed) the propagated part is widened
   by √2. A bias shared by every φ (the fixed lattice's) is not seen by
   either part: use shifted lattices (:func:`sesp.shifted_excluded_area`) for
-  spectra.
+  spectra. Error bars that may share their sign across φ (the scanlines',
+  which :func:`sesp.analyze` stores) are propagated with ``correlated=True``
+  as the bound (2/nphi) Σ |δA(φ) trig(kφ)|, which holds for any correlation.
 
 Onsager theory in 2D
 --------------------
@@ -97,7 +99,9 @@ def _coefficients(values: xr.DataArray, phi, order: int, trig) -> xr.DataArray:
     return (values * basis).sum("phi") * (2.0 / len(phi))
 
 
-def orientational_spectrum(excluded_area: xr.DataArray, order: int = 8, *, error="auto") -> xr.Dataset:
+def orientational_spectrum(
+    excluded_area: xr.DataArray, order: int = 8, *, error="auto", correlated: bool = False
+) -> xr.Dataset:
     """Fourier coefficients a_k, b_k of A_ex(φ) with error bars (see the module notes).
 
     Parameters
@@ -110,6 +114,9 @@ def orientational_spectrum(excluded_area: xr.DataArray, order: int = 8, *, error
         Standard error of each A_ex(φ) value (b²), independent between φ;
         "auto" (default) estimates it from the data (:func:`noise_estimate`);
         0 counts the φ-quadrature error alone.
+    correlated : bool
+        Take ``error`` as bounds that may be correlated across φ: propagated as
+        (2/nphi) Σ |error · trig(kφ)| instead of in quadrature.
 
     Returns
     -------
@@ -139,10 +146,13 @@ def orientational_spectrum(excluded_area: xr.DataArray, order: int = 8, *, error
         per_phi = noise_estimate(excluded_area) if isinstance(error, str) and error == "auto" else error
         if per_phi is not None:
             k = np.arange(order + 1)
-            basis = xr.DataArray(trig(np.outer(k, phi)) ** 2, dims=("k", "phi"), coords={"k": k})
-            propagated = np.sqrt((xr.DataArray(per_phi) ** 2 * basis).sum("phi")) * (2.0 / len(phi))
-            if _mirrored(excluded_area):  # A(−φ) is a copy of A(φ): half as many independent errors
-                propagated = propagated * math.sqrt(2.0)
+            basis = xr.DataArray(np.abs(trig(np.outer(k, phi))), dims=("k", "phi"), coords={"k": k})
+            if correlated:
+                propagated = (abs(xr.DataArray(per_phi)) * basis).sum("phi") * (2.0 / len(phi))
+            else:
+                propagated = np.sqrt((xr.DataArray(per_phi) ** 2 * basis**2).sum("phi")) * (2.0 / len(phi))
+                if _mirrored(excluded_area):  # A(−φ) is a copy of A(φ): half as many independent errors
+                    propagated = propagated * math.sqrt(2.0)
         out[name] = coeff.assign_attrs(units="b^2", long_name=f"{'cosine' if name == 'a' else 'sine'} coefficient")
         out[f"{name}_error"] = np.sqrt(quadrature**2 + propagated**2).assign_attrs(
             units="b^2", long_name=f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)"
@@ -179,7 +189,9 @@ def mixture_second_virial(matrix: xr.DataArray, fraction_a: float) -> xr.DataArr
     return total.assign_attrs(units="b^2", long_name=f"mixture B2 at mole fraction {x:g} of A")
 
 
-def instabilities(excluded_area: xr.DataArray, orders=(1, 2, 3, 4, 6), *, error="auto") -> xr.Dataset:
+def instabilities(
+    excluded_area: xr.DataArray, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False
+) -> xr.Dataset:
     """Where the isotropic state becomes unstable to k-fold order: ρ*_k = −2 / a_k for a_k < 0.
 
     Returns
@@ -193,7 +205,7 @@ def instabilities(excluded_area: xr.DataArray, orders=(1, 2, 3, 4, 6), *, error=
     orders = sorted({int(k) for k in orders})
     if not orders or orders[0] < 1:
         raise ValueError(f"orders must be integers >= 1, got {orders}")
-    spectrum = orientational_spectrum(excluded_area, max(orders), error=error).sel(k=orders)
+    spectrum = orientational_spectrum(excluded_area, max(orders), error=error, correlated=correlated).sel(k=orders)
     a, a_error = spectrum.a, spectrum.a_error
     a0 = abs(excluded_area.mean("phi")) * 2
     unstable = (a < 0) & (-a > SIGNIFICANCE * a_error.fillna(0)) & (-a > 1e-9 * a0)
@@ -242,20 +254,23 @@ def contact_density(excluded_area: xr.DataArray, contacts: float) -> xr.DataArra
     return (z / excluded_area.mean("phi")).assign_attrs(units="b^-2", long_name=f"density of {z:g} mean contacts")
 
 
-def onsager_variables(excluded_area: xr.DataArray, order: int = 8, orders=(1, 2, 3, 4, 6)) -> dict:
+def onsager_variables(
+    excluded_area: xr.DataArray, order: int = 8, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False
+) -> dict:
     """B₂, the spectrum and the instabilities of A_ex(φ) as named variables (what sweeps store).
 
     ``spectrum_cos``/``spectrum_sin`` (and ``_error``) run over ``k`` = 0..order;
     the instabilities over ``order`` = ``orders`` (those below nphi/2). With
-    fewer than 3 orientations only B₂ is returned.
+    fewer than 3 orientations only B₂ is returned. ``error`` and ``correlated``
+    as for :func:`orientational_spectrum`.
     """
     b2 = (excluded_area.mean("phi") / 2).assign_attrs(units="b^2", long_name="second virial coefficient B2")
     order = min(order, (excluded_area.sizes["phi"] - 1) // 2)
     orders = [k for k in orders if k <= order]
     if not orders:  # too few orientations for a spectrum
         return {"second_virial_coefficient": b2}
-    spectrum = orientational_spectrum(excluded_area, order)
-    unstable = instabilities(excluded_area, orders).rename(k="order")
+    spectrum = orientational_spectrum(excluded_area, order, error=error, correlated=correlated)
+    unstable = instabilities(excluded_area, orders, error=error, correlated=correlated).rename(k="order")
     unstable["order"].attrs.update(long_name="order k of the isotropic instability", units="1")
     return {
         "second_virial_coefficient": b2,

@@ -296,6 +296,19 @@ def class_map(ds: xr.Dataset, *, ax=None, particle=None):
     return ax
 
 
+def _band(ax, x, value, error, color, **where):
+    """Shade value ± error around a drawn line, ``error`` (a DataArray, or None: no band) taken at ``where``;
+    an error bar too small to see leaves no mark."""
+    if error is not None:
+        error = error.sel(**where).values if where else error.values
+        ax.fill_between(x, value - error, value + error, color=color, alpha=0.3, lw=0)
+
+
+def _error_of(ds, name):
+    """The error bar stored beside ``name`` (``name_error``), or None."""
+    return ds[f"{name}_error"] if f"{name}_error" in ds else None
+
+
 def _opening_degrees(ds):
     return ds["opening_degrees"].values if "opening_degrees" in ds.coords else np.degrees(ds.opening.values)
 
@@ -303,14 +316,16 @@ def _opening_degrees(ds):
 def excluded_area_curve(ds: xr.Dataset, *, ax=None):
     """Paper Fig. 4: orientation-averaged normalised A_ex against Ψ (one line per n)."""
     ax = _axes(ax)
-    value = ds.mean_normalized_excluded_area
+    value, error = ds.mean_normalized_excluded_area, _error_of(ds, "mean_normalized_excluded_area")
     deg = _opening_degrees(ds)
     if "n" in value.dims:
         for i, n in enumerate(value.n.values):
             ax.plot(deg, value.sel(n=n).values, "o-", ms=2.5, color=f"C{i}", label=f"$n = {n:g}$")
+            _band(ax, deg, value.sel(n=n).values, error, f"C{i}", n=n)
         ax.legend(frameon=False)
     else:
         ax.plot(deg, value.values, "o-", ms=2.5)
+        _band(ax, deg, value.values, error, "C0")
     ax.set(xlabel=PSI_LABEL, ylabel=NORMALIZED_LABEL, xlim=(0, 360), ylim=(0, None))
     ax.set_xticks(np.arange(0, 361, 90))
     return ax
@@ -331,7 +346,7 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
 
     fig = fig or plt.figure(figsize=(12, 10), layout="constrained")
     axes = fig.subplots(3, 3, sharex=True, sharey=True).ravel()
-    value = ds.normalized_excluded_area
+    value, error = ds.normalized_excluded_area, _error_of(ds, "normalized_excluded_area")
     deg = _opening_degrees(ds)
     ns = [n for n in ns if n in value.n.values]
     n_colors = matplotlib.colormaps["viridis"](np.linspace(0, 0.9, len(ns)))
@@ -339,6 +354,7 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
         phi = _nearest_phi(ds, phi_deg)
         for color, n in zip(n_colors, ns):
             ax.plot(deg, value.sel(n=n, phi=phi).values, color=color, label=f"$n = {n:g}$")
+            _band(ax, deg, value.sel(n=n, phi=phi).values, error, color, n=n, phi=phi)
         ax.set_title(f"$\\phi = {math.degrees(phi):.0f}°$", fontsize=9)
     axes[0].legend(frameon=False, fontsize=8)
     shades = np.arange(0, 181, 22.5)
@@ -349,7 +365,9 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
     for ax, n in zip(axes[5:], ns):
         for phi_deg in shades:
             phi = _nearest_phi(ds, phi_deg)
-            ax.plot(deg, value.sel(n=n, phi=phi).values, color=phi_cmap(phi_norm(math.degrees(phi))), lw=1)
+            color = phi_cmap(phi_norm(math.degrees(phi)))
+            ax.plot(deg, value.sel(n=n, phi=phi).values, color=color, lw=1)
+            _band(ax, deg, value.sel(n=n, phi=phi).values, error, color, n=n, phi=phi)
         ax.set_title(f"$n = {n:g}$", fontsize=9)
     for label, ax in zip("abcdefghi", axes):
         ax.text(0.02, 0.04, f"({label})", transform=ax.transAxes, fontsize=9)
@@ -439,9 +457,11 @@ def thickness_curves(ds: xr.Dataset, *, fig=None):
     colors = matplotlib.colormaps["viridis"](np.linspace(0, 0.85, len(thicknesses)))
     for ax, n in zip(axes, ns):
         sub = ds.sel(n=n) if "n" in ds.dims else ds
+        error = _error_of(sub, "mean_normalized_excluded_area")
         for color, thickness in zip(colors, thicknesses):
             value = sub.mean_normalized_excluded_area.sel(thickness=thickness).values
             ax.plot(deg, value, color=color, lw=1.3, label=f"$D = {thickness:g}\\,b$")
+            _band(ax, deg, value, error, color, thickness=thickness)
         ax.set(title=f"$n = {n:g}$", xlabel=r"opening $\Psi$ (degrees)", xlim=(0, 360), ylim=(0, None))
         ax.set_xticks(np.arange(0, 361, 90))
     axes[0].set_ylabel(r"$\langle A_\mathrm{ex} \rangle / \langle A_\mathrm{ex} \rangle_\mathrm{closed}$")
@@ -472,6 +492,8 @@ def onsager_plot(ds: xr.Dataset, *, fig=None):
         sub = ds if n is None else ds.sel(n=n)
         label = "" if n is None else f"$n = {n:g}$"
         top.plot(deg, sub.second_virial_coefficient.values, "-", color=f"C{i}", label=label)
+        error = _error_of(sub, "second_virial_coefficient")
+        _band(top, deg, sub.second_virial_coefficient.values, error, f"C{i}")
         reduced = sub.reduced_instability_density
         leading = sub.leading_instability.values
         best = reduced.min("order", skipna=True).values

@@ -6,8 +6,9 @@ radians.
 
 from __future__ import annotations
 
+import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -232,7 +233,12 @@ class SeSP:
         return np.stack([x, y], axis=-1)
 
     def _upper_arc_table(self):
-        """θ and cumulative arc length along the upper half, θ in [Ψ/2, π].
+        """θ and cumulative arc length along the upper half, θ in [Ψ/2, π] (read-only arrays, computed once
+        per shape: thickness does not enter)."""
+        return _arc_table(replace(self, thickness=0.0))
+
+    def _arc_table_uncached(self):
+        """The table of :meth:`_upper_arc_table`.
 
         Intervals are halved until each chord is short or the curve is straight
         over it (midpoint within 1e-10 of the chord): for large n the curve
@@ -257,6 +263,8 @@ class SeSP:
             theta = np.concatenate([theta, mids[split]])[order]
             pts = np.concatenate([pts, mid_pts[split]])[order]
         arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+        theta.flags.writeable = False
+        arc.flags.writeable = False
         return theta, arc
 
     def _points_at(self, targets, theta, arc):
@@ -326,6 +334,13 @@ class SeSP:
             upper[-1] = self.point(math.pi)
         lower = upper[: (n_seg + 1) // 2][::-1] * np.array([1.0, -1.0])
         return Polyline(np.concatenate([upper, lower]), thickness=self.thickness)
+
+
+@functools.lru_cache(maxsize=64)
+def _arc_table(shape: SeSP):
+    """The arc-length table of a (thin) SeSP, kept for the shapes used last: a sweep point builds the
+    polylines of one shape at several segment counts."""
+    return shape._arc_table_uncached()
 
 
 def as_polyline(particle, segments: int = DEFAULT_SEGMENTS) -> Polyline:
