@@ -54,11 +54,13 @@ def test_excluded_area_alone_runs_no_lattice_pass():
     assert float(ds.second_virial_coefficient_error) == float(lines.mean_excluded_area_error) / 2
 
 
-@pytest.mark.parametrize("particle, segments", [(NEEDLE, 24), (ASP, 30)])
-def test_polygons_stand_for_themselves_where_there_is_no_smooth_curve(particle, segments):
+@pytest.mark.parametrize(
+    "particle, segments, measured", [(NEEDLE, 24, "polylines as given"), (ASP, 30, "polygons of 30 segments")]
+)
+def test_polygons_stand_for_themselves_where_there_is_no_smooth_curve(particle, segments, measured):
     """A polyline, or segments not a multiple of 4: the polygon's A_ex(φ)."""
     ds = analyze(particle, GRID, segments=segments)
-    assert ds.attrs["excluded_area_of"] == f"polygons of {segments} segments"
+    assert ds.attrs["excluded_area_of"] == measured
     lines = scanline_excluded_area(particle, segments=segments, nphi=GRID.nphi)
     np.testing.assert_array_equal(ds.excluded_area.values, lines.excluded_area.values)
 

@@ -87,6 +87,14 @@ def test_mixture_file_rebuilds_both_particles(files):
     np.testing.assert_array_equal(pair.curve2.vertices, ZED.vertices)
 
 
+def test_info_gives_the_analysis_area_with_its_error_bar(files, capsys):
+    ds = load(files["analysis"])
+    main(["info", str(files["analysis"])])
+    out = capsys.readouterr().out
+    mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+    assert f"A_ex     : {mean:.8g} ± {error:.2g} b^2 (scanlines, smooth curves)" in out
+
+
 def test_info_normalises_by_the_closed_shape_not_by_4pi(files, capsys):
     ds = load(files["scan"])
     main(["info", str(files["scan"])])

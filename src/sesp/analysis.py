@@ -190,8 +190,19 @@ def _add_excluded_area(ds, pair, grid):
         lines = scanline_excluded_area(pair, nphi=grid.nphi)
     for name in ("excluded_area", "excluded_area_error", "mean_excluded_area", "mean_excluded_area_error"):
         ds[name] = lines[name].assign_coords(phi=ds.phi) if "phi" in lines[name].dims else lines[name]
-    ds.attrs["excluded_area_of"] = "smooth curves" if smooth else f"polygons of {pair.segments} segments"
+    ds.attrs["excluded_area_of"] = _curves_measured(pair, smooth)
     ds.attrs["scanline_rows"] = lines.attrs["rows"]
+
+
+def _curves_measured(pair, smooth) -> str:
+    """What the stored A_ex is of: the smooth curves, or the polygons (SeSPs) and polylines as given."""
+    if smooth:
+        return "smooth curves"
+    sesps = [isinstance(p, SeSP) for p in (pair.particle, pair.other)]
+    polygons = f"polygons of {pair.segments} segments"
+    if all(sesps):
+        return polygons
+    return "polylines as given" + (f", the SeSP as {polygons}" if any(sesps) else "")
 
 
 def _add_normalized(ds, pair, grid):

@@ -126,12 +126,19 @@ def _particle_line(attrs, prefix) -> str:
 
 
 def _area_line(ds) -> str:
+    """A_ex with its error bar and what it is of (scanlines), or the lattice's count of a bare field."""
     area = excluded_area(ds)
+    if "mean_excluded_area_error" in ds:
+        area = float(ds.mean_excluded_area)
+        text = f"A_ex     : {area:.8g} ± {float(ds.mean_excluded_area_error):.2g} b^2"
+        text += f" (scanlines, {ds.attrs.get('excluded_area_of', 'polygons')})"
+    else:
+        text = f"A_ex     : {area:.8g} b^2 (lattice count; `sesp area` gives A_ex with an error bar)"
     try:
         closed = closed_excluded_area(ds)
     except ValueError:  # a Polyline has no closed shape
-        return f"A_ex     : {area:.8g} b^2"
-    return f"A_ex     : {area:.8g} b^2  (A_ex / A_ex(closed) = {area / closed:.6g}; closed {closed:.6g} b^2)"
+        return text
+    return f"{text}\n           A_ex / A_ex(closed) = {area / closed:.6g}; closed {closed:.6g} b^2"
 
 
 def _sweep_lines(ds) -> list:
