@@ -3,7 +3,9 @@
 For each opening: the components (area, inscribed radius, bounding box,
 floor flag), the positions classified and the time, and a PNG of the map in
 ``benchmarks/figures/component_map_n{n}_{degrees}.png`` (the whole set, and
-beside it the neighbourhood of the particle's centre).
+beside it the neighbourhood of the particle's centre). As an independent
+look, the runs of x along the axis (y = 0) and 1e-4 b off it where the widest
+window is 0, sampled every 1e-3 b over |x| <= 0.4 b.
 
     python benchmarks/component_maps.py [--n 4] [--openings 170 176 178] [--floor 1e-7] [--base 128]
 """
@@ -13,12 +15,21 @@ import math
 import time
 from pathlib import Path
 
+import numpy as np
 from _common import machine, table
 
-from sesp import SeSP, excluded_map
+from sesp import SeSP, excluded_map, widest_window
 from sesp.plot import component_map, save_figure
 
 FIGURES = Path(__file__).resolve().parent / "figures"
+
+
+def axis_runs(particle, y, step=1e-3, reach=0.4):
+    """Runs [x0, x1] (b) along the line at height y where the widest window is 0."""
+    x = np.arange(-reach, reach + step / 2, step)
+    width, _ = widest_window(particle, x, np.full_like(x, y))
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], (width == 0).astype(int), [0]])))
+    return [(float(x[a]), float(x[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
 
 
 def main():
@@ -41,6 +52,9 @@ def main():
             box = ", ".join(f"{v:.4f}" for v in c.bbox)
             rows.append((f"{degrees:g}", k, f"{c.area:.4g}", f"{c.inscribed_radius:.3g}", box, c.touches_floor))
         rows.append((f"{degrees:g}", f"{found.count} in all", found.positions, f"{seconds:.0f} s", "", ""))
+        for y in (0.0, 1e-4):
+            runs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in axis_runs(particle, y))
+            rows.append((f"{degrees:g}", f"W = 0 at y = {y:g}", "", "", runs, ""))
         fig, (whole, centre) = plt.subplots(1, 2, figsize=(11, 5))
         component_map(found, ax=whole, particle=particle)
         component_map(found, ax=centre, window=(-0.15, 0.15, -0.15, 0.15))

@@ -147,13 +147,16 @@ def test_components_report_undecided_necks_only_when_asked():
 
 
 def test_transitions_on_maps_bracket_the_asp_end_at_pi():
+    """The excluded set ends at π: the last change, to 0, is bracketed around 180°. (On this coarse base the
+    lens, under 4e-3 b thick from 170° and beside the body's rim, is not found: the count below π is the
+    body's; see the notes of sesp.maps.)"""
     result = map_transitions(ASP90, (math.radians(170), math.radians(190)), step=math.radians(10), base=48,
-                             tolerance=math.radians(2.5), floor=1e-3)  # fmt: skip
-    assert list(result["count"].sel(opening=[math.radians(170), math.radians(190)]).values)[1] == 0
-    assert result.sizes["transition"] == 1
-    assert result.count_high.item() == 0
-    assert result.high_degrees.item() - result.low_degrees.item() <= 5.0
-    assert result.low_degrees.item() <= 180.0 <= result.high_degrees.item() + 2.5
+                             tolerance=math.radians(2.5), floor=1e-4)  # fmt: skip
+    assert list(result["count"].sel(opening=[math.radians(190)]).values) == [0]
+    assert result["count"].sel(opening=math.radians(170)).item() >= 1
+    assert result.count_high.values[-1] == 0
+    assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
+    assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5
 
 
 def test_cli_one_opening_as_json(capsys):
@@ -188,3 +191,20 @@ def test_component_map_draws_each_component_in_its_colour():
     plt.close(fig)
     for color in ((31, 119, 180), (255, 127, 14)):  # tab:blue (the body), tab:orange (the lens)
         assert (np.abs(image - color).sum(axis=-1) < 30).sum() > 200
+
+
+def test_a_crescent_whose_ridge_dips_is_one_component():
+    """n = 4 at Ψ = 176°: two mirror-image crescents beside the axis, whose ridges dip and rise along them
+    (saddles of the distance to the allowed set nearly as high as its peaks). Each is one component, not a
+    row of slices, with the area of a brute-force exact-in-φ raster within 3 %."""
+    particle = SeSP(n=4, opening=math.radians(176))
+    found = excluded_map(particle, floor=1e-3)
+    crescents = [c for c in found.components if c.bbox[1] < -0.4]
+    assert len(crescents) == 2
+    upper, lower = sorted(crescents, key=lambda c: -c.bbox[2])
+    assert upper.bbox[2] > 0 > lower.bbox[3]
+    assert upper.area == pytest.approx(lower.area, rel=1e-9)  # mirror images
+    x, y = np.linspace(-0.64, -0.47, 86), np.linspace(0.0, 0.14, 71)
+    width, _ = widest_window(particle, *np.meshgrid(x, y))
+    raster = np.count_nonzero(width == 0) * (x[1] - x[0]) * (y[1] - y[0])
+    assert upper.area == pytest.approx(raster, rel=0.03)

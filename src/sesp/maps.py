@@ -32,10 +32,12 @@ a neck narrower than ``ratio`` (0.5) times the smaller one's inscribed radius
 are separate, so a single-point pinch (the particle's centre for the ASP)
 separates the bodies that touch there. A pinch is detected as such a neck:
 where two bodies at least ``RESOLVED_PEAK`` nodes thick meet at a neck
-narrower than the smaller of them but not narrow enough to separate them at
-this resolution (a pinch behind an allowed wedge of small angle Ψ looks
-1/Ψ nodes wide on any grid), the neck is looked at again on a finer window,
-until the rule decides it.
+narrower than ``UNDECIDED`` (0.8) times the smaller one's inscribed radius
+but not narrow enough to separate them at this resolution (a pinch behind an
+allowed wedge of small angle α looks 1/α nodes wide on any grid), the neck
+is looked at again on a finer window, until the rule decides it; a neck
+wider than that is a waist of one body (a crescent's ridge dips and rises
+along it) and joins. At the floor an undecided neck keeps the bodies apart.
 
 Refinement
 ----------
@@ -91,6 +93,10 @@ _TAPER = 64.0  # a thick body's thin parts are refined until the cells are this 
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
 _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
 _NARROW = 64.0  # rad per b: uncertain cells alone are refined where a window is narrower than this × h
+# Necks s below this times the smaller body's inscribed radius p (and above the rule's ratio · p) are looked at
+# finer: a pinch behind an allowed wedge of angle α looks 1/α nodes wide on any grid, so refining it shrinks
+# s / p; a neck wider than this is a body's own waist (a crescent's ridge dips and rises) and joins.
+UNDECIDED = 0.8
 
 
 def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
@@ -324,7 +330,7 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     # The coarser window's excluded nodes around the refined cells take part in the count (pinches between
     # them and what is found here are judged by the same rule) and say which coarser component a piece is.
     dist = distance_to_complement(excluded, (), outside)
-    found = components(excluded, outside=outside, measure=h * h, neck=1.0, distance=dist)
+    found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
     zone = _untapered(_unsettled(excluded, uncertain, narrow, settled) & active, excluded, thick, dist, h)
@@ -438,7 +444,10 @@ def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist):
 def _unsettled(excluded, uncertain, narrow, settled):
     """Nodes whose count is not settled: thin excluded parts with the uncertain nodes next to them, and
     clusters of uncertain nodes that touch no excluded node and have a narrow window (they might hold a
-    thin component: near the excluded set every window is narrow)."""
+    thin component: near the excluded set every window is narrow). A cluster that touches an excluded node
+    or a thick body's rim is taken as that part's: a thin component beside a body, thinner than a cell,
+    can be missed there (n = 4 at Ψ = 170°: the tail and the island on the axis; the ASP's lens from
+    about 170° on a base of 48 cells)."""
     ring = np.ones((3, 3), dtype=bool)
     thin = excluded & ~settled
     near_thin = ndimage.binary_dilation(thin, ring) & (excluded | uncertain) if thin.any() else thin

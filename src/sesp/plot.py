@@ -517,7 +517,8 @@ def onsager_plot(ds: xr.Dataset, *, fig=None):
 def component_map(found, *, ax=None, particle=None, window=None):
     """The components of an adaptive map (:func:`sesp.excluded_map`), each in its own colour.
 
-    Each excluded node is drawn as its cell (cells of every refinement level);
+    Each excluded node is drawn as its cell (cells of every refinement level),
+    outlined in its colour so that cells narrower than a pixel stay visible;
     the legend gives each component's area and inscribed radius. ``window``
     (xmin, xmax, ymin, ymax; b) defaults to the components' bounding box,
     padded. ``particle`` draws the fixed particle in grey for scale.
@@ -530,7 +531,8 @@ def component_map(found, *, ax=None, particle=None, window=None):
     handles = []
     for k, (comp, color) in enumerate(zip(found.components, colors), start=1):
         cells = [Rectangle((x - c / 2, y - c / 2), c, c) for x, y, c in zip(comp.x, comp.y, comp.cell)]
-        ax.add_collection(PatchCollection(cells, facecolor=color, edgecolor="none"))
+        # an edge of its own colour keeps cells narrower than a pixel (thin strips at the floor) in sight
+        ax.add_collection(PatchCollection(cells, facecolor=color, edgecolor=color, linewidth=0.6))
         floor = ", at the floor" if comp.touches_floor else ""
         label = f"{k}: area {comp.area:.3g} b$^2$, inscribed {comp.inscribed_radius:.2g} b{floor}"
         handles.append(Patch(color=color, label=label))
