@@ -7,10 +7,10 @@ segments sorted by their inner radius, so each segment of curve 1 finds its
 candidates by two binary searches; one scratch buffer per position), checks
 that both give the same measures, and times today's widest window with the
 clearance certificate (:func:`sesp.maps.widest_window`, the adaptive maps'
-classification). Then one adaptive map per opening, with the positions it
-classified.
+classification). Then one adaptive map of the ASP per opening and base
+grid, with the positions it classified.
 
-    python benchmarks/window_map.py [--nodes 512] [--n 2 4 8] [--maps 30 90 150 181]
+    python benchmarks/window_map.py [--nodes 512] [--n 2 4 8] [--maps 30 90 150 179 181] [--bases 128 97]
 """
 
 import argparse
@@ -58,7 +58,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--nodes", type=int, default=512)
     parser.add_argument("--n", type=float, nargs="+", default=[2, 4, 8])
-    parser.add_argument("--maps", type=float, nargs="+", default=[30, 90, 150, 181])
+    parser.add_argument("--maps", type=float, nargs="+", default=[30, 90, 150, 179, 181])
+    parser.add_argument("--bases", type=int, nargs="+", default=[128, 97])
     args = parser.parse_args()
     print(machine())
     with tempfile.TemporaryDirectory() as folder:
@@ -104,12 +105,13 @@ def main():
             ["n", "positions", "old s", "new s", "speed-up", "max |diff| rad", "same excluded", "window+clearance s"],
         )
     rows = []
-    for degrees in args.maps:
+    for degrees, base in ((d, b) for d in args.maps for b in args.bases):
         t0 = time.perf_counter()
-        found = excluded_map(SeSP(n=2, opening=math.radians(degrees)))
+        found = excluded_map(SeSP(n=2, opening=math.radians(degrees)), base=base)
         rows.append(
             (
                 f"{degrees:g}",
+                base,
                 found.count,
                 found.positions,
                 f"{found.finest:.1e}",
@@ -117,8 +119,8 @@ def main():
                 f"{time.perf_counter() - t0:.1f}",
             )
         )
-    print("\nadaptive maps of the ASP's excluded set (base 128 cells, floor 1e-7 b)")
-    table(rows, ["opening deg", "components", "positions", "finest cell b", "areas b^2", "s"])
+    print("\nadaptive maps of the ASP's excluded set (floor 1e-7 b); exact lens area (pi - opening) - sin(opening)")
+    table(rows, ["opening deg", "base", "components", "positions", "finest cell b", "areas b^2", "s"])
 
 
 if __name__ == "__main__":

@@ -147,13 +147,16 @@ def test_components_report_undecided_necks_only_when_asked():
 
 
 def test_transitions_on_maps_bracket_the_asp_end_at_pi():
-    """The excluded set ends at π: the last change, to 0, is bracketed around 180°. (On this coarse base the
-    lens, under 4e-3 b thick from 170° and beside the body's rim, is not found: the count below π is the
-    body's; see the notes of sesp.maps.)"""
+    """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
+    4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two
+    components, the lens with its exact area (π − Ψ) − sin Ψ."""
     result = map_transitions(ASP90, (math.radians(170), math.radians(190)), step=math.radians(10), base=48,
                              tolerance=math.radians(2.5), floor=1e-4)  # fmt: skip
     assert list(result["count"].sel(opening=[math.radians(190)]).values) == [0]
-    assert result["count"].sel(opening=math.radians(170)).item() >= 1
+    assert result["count"].sel(opening=math.radians(170)).item() == 2
+    lens = result["area"].sel(opening=math.radians(170)).values[1]
+    psi = math.radians(170)
+    assert lens == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.05)
     assert result.count_high.values[-1] == 0
     assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
     assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5

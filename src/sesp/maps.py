@@ -37,7 +37,10 @@ but not narrow enough to separate them at this resolution (a pinch behind an
 allowed wedge of small angle α looks 1/α nodes wide on any grid), the neck
 is looked at again on a finer window, until the rule decides it; a neck
 wider than that is a waist of one body (a crescent's ridge dips and rises
-along it) and joins. At the floor an undecided neck keeps the bodies apart.
+along it) and joins. At the floor an undecided neck joins the bodies: a pinch
+stays about 1/α nodes wide while the bodies' radii grow ``zoom`` times per
+level, so it is decided as a pinch on the way down unless α is below about
+2 · floor / (the bodies' radius); a neck still undecided there is a waist.
 
 Refinement
 ----------
@@ -50,10 +53,17 @@ box of each cluster of such nodes) where its count is not settled:
 * the undecided necks above.
 
 Nodes near thick parts are settled: their cell's boundary is resolved by the
-thick part's own count. The finer window evaluates only the refined cells
-(and one cell around them); the components it finds are joined to the
-coarser ones they overlap outside the refined cells, or are new components.
-Refinement stops when the next cells would be smaller than ``floor``.
+thick part's own count. Clusters of such nodes within a few cells of a body
+(a tip, the rim, a pinch, a thin component beside it) are refined until the
+cells are ``_TAPER`` (64) times smaller than the body's inscribed radius,
+and then left: a tip or a pinch looks the same at every scale. So a thin
+component lying within a few cells of a body and thinner than a couple of
+those finest cells (each 1/64 of the body's inscribed radius) can be missed:
+that is the maps' blind spot.
+The finer window evaluates only the refined cells (and one cell around
+them); the components it finds are joined to the coarser ones they overlap
+outside the refined cells, or are new components. Refinement stops when the
+next cells would be smaller than ``floor``.
 """
 
 from __future__ import annotations
@@ -92,7 +102,6 @@ _SETTLED = 2 * RESOLVED_PEAK  # nodes from a thick excluded node within which th
 _TAPER = 64.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
 _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
-_NARROW = 64.0  # rad per b: uncertain cells alone are refined where a window is narrower than this × h
 # Necks s below this times the smaller body's inscribed radius p (and above the rule's ratio · p) are looked at
 # finer: a pinch behind an allowed wedge of angle α looks 1/α nodes wide on any grid, so refining it shrinks
 # s / p; a neck wider than this is a body's own waist (a crescent's ridge dips and rises) and joins.
@@ -273,8 +282,8 @@ def _component(piece: _Piece) -> MapComponent:
 
 
 def _classify(ctx, x0, y0, h, evaluate, inherited):
-    """(excluded, uncertain, narrow) node masks of a window: narrow where the widest window is below
-    ``_NARROW`` · h radians; nodes not in ``evaluate`` take ``inherited`` (excluded) and are neither."""
+    """(excluded, uncertain) node masks of a window; nodes not in ``evaluate`` take ``inherited`` (excluded)
+    and are not uncertain."""
     iy, ix = np.nonzero(evaluate)
     xs = x0 + (ix + 0.5) * h
     ys = y0 + (iy + 0.5) * h
@@ -295,11 +304,9 @@ def _classify(ctx, x0, y0, h, evaluate, inherited):
     ctx.bar.update(len(xs))
     excluded = np.zeros(evaluate.shape, dtype=bool) if inherited is None else inherited.copy()
     uncertain = np.zeros(evaluate.shape, dtype=bool)
-    narrow = np.zeros(evaluate.shape, dtype=bool)
     excluded[iy, ix] = width == 0.0
     uncertain[iy, ix] = (width > 0.0) & (clear - pair.contact <= half_diagonal)
-    narrow[iy, ix] = width < _NARROW * h
-    return excluded, uncertain & ~excluded, narrow
+    return excluded, uncertain & ~excluded
 
 
 def _disk(radius):
@@ -308,7 +315,7 @@ def _disk(radius):
     return x * x + y * y <= radius * radius
 
 
-def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None):
+def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None, above=None):
     """The pieces of E seen on one window of nodes spaced h, lower-left corner (x0, y0).
 
     ``evaluate``: nodes classified here; the others keep the coarser
@@ -319,21 +326,27 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     nodes taken as excluded without classifying them (the children of a
     coarser excluded node at least ``_DEEP`` nodes inside the set: an
     allowed hole there would not change the count of components).
+    ``above``: per node, the depth (b) the coarser windows measured for
+    the part it belonged to, so that a body cut by this window's edge keeps
+    its depth (see :func:`_untapered`).
 
     Returns a list of (piece or None, owners): each component found here,
     with the coarser components it touches (to be joined with them).
     """
-    excluded, uncertain, narrow = _classify(ctx, x0, y0, h, evaluate, inherited)
+    excluded, uncertain = _classify(ctx, x0, y0, h, evaluate, inherited)
     if not excluded.any() and not (uncertain & active).any():
         return []
     counted = evaluate if assumed is None else evaluate | assumed
     # The coarser window's excluded nodes around the refined cells take part in the count (pinches between
     # them and what is found here are judged by the same rule) and say which coarser component a piece is.
     dist = distance_to_complement(excluded, (), outside)
-    found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist)
+    at_floor = h / ctx.zoom < ctx.floor
+    found = components(excluded, outside=outside, measure=h * h, neck=0.0 if at_floor else UNDECIDED, distance=dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
-    zone = _untapered(_unsettled(excluded, uncertain, narrow, settled) & active, excluded, thick, dist, h)
+    depth = _part_depth(excluded, dist * h if above is None else np.maximum(dist * h, above))
+    zone = _untapered(_unsettled(excluded, uncertain, settled) & active, depth, h)
+    zone = _linked(zone, excluded, uncertain, dist, active)
     for node, a, b, s in found.necks:
         if a and b and a != b:
             iy, ix = divmod(int(node), zone.shape[1])
@@ -342,12 +355,11 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
             near[max(iy - r, 0) : iy + r + 1, max(ix - r, 0) : ix + r + 1] = True
             zone |= near & (excluded | uncertain) & active
     zone, stopped = _affordable(zone, ctx.zoom)
-    at_floor = h / ctx.zoom < ctx.floor
     local = _local_pieces(found, dist, active & (~zone if not at_floor else True), owner_grid, ~active,
                           x0, y0, h, at_floor, stopped)  # fmt: skip
     if at_floor or not zone.any():
         return list(local.values())
-    return _refine(ctx, x0, y0, h, excluded, zone, found.labels, local, dist)
+    return _refine(ctx, x0, y0, h, excluded, zone, found.labels, local, dist, depth)
 
 
 def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):
@@ -392,7 +404,7 @@ def _join(a, b):
     return a.joined(b)
 
 
-def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist):
+def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist, depth):
     """Look at each cluster of the zone ``ctx.zoom`` times finer; join what is found to the ``local`` pieces."""
     z = ctx.zoom
     clusters, _ = ndimage.label(zone, np.ones((3, 3), dtype=bool))
@@ -423,6 +435,7 @@ def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist):
             np.kron(excluded[ys, xs], up).astype(bool),
             np.kron(settled_labels[ys, xs], up.astype(np.int64)),
             assumed=np.kron(near & deep[ys, xs], up).astype(bool),
+            above=np.kron(depth[ys, xs], up),
         )
         for piece, owners in sub:
             roots = sorted({root(k) for k in owners if k in parent})
@@ -441,48 +454,66 @@ def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist):
     return [g for g in groups.values() if g[0] is not None or g[1]] + new
 
 
-def _unsettled(excluded, uncertain, narrow, settled):
+def _unsettled(excluded, uncertain, settled):
     """Nodes whose count is not settled: thin excluded parts with the uncertain nodes next to them, and
-    clusters of uncertain nodes that touch no excluded node and have a narrow window (they might hold a
-    thin component: near the excluded set every window is narrow). A cluster that touches an excluded node
-    or a thick body's rim is taken as that part's: a thin component beside a body, thinner than a cell,
-    can be missed there (n = 4 at Ψ = 170°: the tail and the island on the axis; the ASP's lens from
-    about 170° on a base of 48 cells)."""
+    clusters of uncertain nodes away from thick parts that touch no excluded node (they might hold a thin
+    component). The width of the window says nothing here: next to the ASP's lens, whose rim is where an
+    end point lies on the other arc for a whole interval of φ, the window jumps from 0 to wide. Clusters
+    beside thick parts are left to :func:`_untapered`."""
     ring = np.ones((3, 3), dtype=bool)
     thin = excluded & ~settled
     near_thin = ndimage.binary_dilation(thin, ring) & (excluded | uncertain) if thin.any() else thin
     alone = uncertain & ~settled & ~near_thin
     clusters, count = ndimage.label(alone, ring)
     if count:
-        touching = np.unique(clusters[ndimage.binary_dilation(excluded | settled, ring) & alone])
-        wide = np.setdiff1d(np.arange(1, count + 1), np.unique(clusters[alone & narrow]))
-        alone &= ~np.isin(clusters, np.union1d(touching[touching > 0], wide))
+        touching = np.unique(clusters[ndimage.binary_dilation(excluded, ring) & alone])
+        alone &= ~np.isin(clusters, touching[touching > 0])
     return near_thin | alone
 
 
-def _untapered(zone, known, thick, dist, h):
-    """``zone`` without its clusters that are tips of thick parts already looked at closely enough.
-
-    A cluster whose excluded nodes are joined (node to node) to an excluded
-    part at least ``RESOLVED_PEAK`` nodes thick is a tip, a bump or a thin
-    part of that body, or a thin component pinched to it; it is refined
-    until the cells are ``_TAPER`` times smaller than the body's inscribed
-    radius, which resolves pinched parts far thinner than the body, and then
-    left: a tip is thin down to its end and would be refined to the floor.
-    """
-    ring = np.ones((3, 3), dtype=bool)
-    parts, count = ndimage.label(known, ring)
-    if not count or not thick.any():
+def _linked(zone, excluded, uncertain, dist, active):
+    """``zone`` grown by up to ``_SETTLED + 2`` nodes along the boundary layer (uncertain nodes and excluded
+    nodes next to the complement): the cells that join a thin part being refined to the body it hangs on are
+    refined with it, so the finer window sees the join. Without them the join, inside the body's settled
+    nodes, is never looked at closely, and a thin tip is found apart from its body (the ASP at 179°: slivers
+    at the corners of the body)."""
+    if not zone.any():
         return zone
-    depth = ndimage.maximum(np.where(thick, dist, 0.0), parts, np.arange(1, count + 1)) * h  # b, 0: thin part
-    clusters, n = ndimage.label(zone, ring)
-    for index, box in enumerate(ndimage.find_objects(clusters), start=1):
-        mine = clusters[box] == index
-        touched = np.unique(parts[box][mine & known[box]])
-        touched = touched[touched > 0]
-        if len(touched) and depth[touched - 1].max() > _TAPER * h:
-            zone[box] &= ~mine
-    return zone
+    layer = (uncertain | (excluded & (dist < 2))) & active
+    return ndimage.binary_dilation(zone, np.ones((3, 3), dtype=bool), iterations=int(_SETTLED) + 2, mask=layer | zone)
+
+
+def _part_depth(excluded, depth):
+    """Per node, the largest of ``depth`` (b) over the 8-connected part of ``excluded`` it belongs to; 0 outside."""
+    parts, count = ndimage.label(excluded, np.ones((3, 3), dtype=bool))
+    if not count:
+        return np.zeros(excluded.shape)
+    return np.concatenate([[0.0], ndimage.maximum(depth, parts, np.arange(1, count + 1))])[parts]
+
+
+def _untapered(zone, depth, h):
+    """``zone`` without its clusters beside thick parts already looked at closely enough.
+
+    A cluster within ``_SETTLED + 2`` nodes of an excluded part deeper than
+    ``_TAPER`` cells (``depth``: the inscribed radius of each node's part, b,
+    as this window or a coarser one measured it, so that a body cut by the
+    window's edge keeps its depth) is a tip, a bump or a thin part of that
+    body, a thin component pinched to it or lying beside it, or uncertain
+    cells along its rim. It is refined until the cells are ``_TAPER`` times
+    smaller than the body's inscribed radius, which resolves parts far
+    thinner than the body, and then left: a tip is thin down to its end and
+    a pinch looks the same at every scale, so both would be refined to the
+    floor. What is left is the maps' blind spot: a component thinner than
+    a couple of cells ``1 / _TAPER`` of the inscribed radius of a body within
+    a few cells of it.
+    """
+    deep = depth > _TAPER * h
+    if not deep.any():
+        return zone
+    near = ndimage.distance_transform_edt(~deep) <= _SETTLED + 2
+    clusters, _ = ndimage.label(zone, np.ones((3, 3), dtype=bool))
+    beside = np.unique(clusters[near & zone])
+    return zone & ~np.isin(clusters, beside[beside > 0])
 
 
 def map_transitions(

@@ -363,8 +363,18 @@ def clearance(v1, v2, spans2, tx, ty, phi, cap):
     return math.sqrt(best2)
 
 
-# Orientations tried for the clearance, as fractions of the widest window: its middle first.
-CLEARANCE_FRACTIONS = np.array([0.5, 0.25, 0.75, 0.125, 0.875, 0.375, 0.625])
+def _halving_fractions(levels):
+    """k / 2^levels for k = 1 .. 2^levels - 1, coarse to fine: 1/2, then 1/4 and 3/4, then the eighths, ..."""
+    out = []
+    for level in range(1, levels + 1):
+        out += [k / 2**level for k in range(1, 2**level, 2)]
+    return np.array(out)
+
+
+# Orientations tried for the clearance, as fractions of the widest window: its middle first, then ever finer
+# halvings. The clearance is 0 at the window's ends and often largest near one of them (an arc's end clears the
+# other curve just before the window closes), so the sample goes to 1/64 of the window from its ends.
+CLEARANCE_FRACTIONS = _halving_fractions(6)
 
 
 @njit(**JIT, parallel=True)

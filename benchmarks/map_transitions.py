@@ -1,0 +1,84 @@
+"""Transition tables on adaptive maps (exact in φ), on two base grids of different parity and size.
+
+For each n: :func:`sesp.map_transitions` over Ψ (every ``--step`` degrees,
+each change bisected to ±0.005 rad), once on each base grid; prints the
+brackets side by side, whether they are identical, and the time of each
+search; saves each search as ``map_transitions_n{n}_base{b}.nc`` in
+``--out``.
+
+    python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
+"""
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+from _common import machine, table
+
+from sesp import SeSP, map_transitions
+
+
+def brackets(result):
+    """[(count_low, count_high, low_deg, high_deg)] of a transition dataset."""
+    return [
+        (int(a), int(b), float(lo), float(hi))
+        for a, b, lo, hi in zip(
+            result.count_low.values, result.count_high.values, result.low_degrees.values, result.high_degrees.values
+        )
+    ]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--n", type=float, nargs="+", default=[2, 4, 8, 10])
+    parser.add_argument("--bases", type=int, nargs=2, default=[128, 97])
+    parser.add_argument("--from", dest="low", type=float, default=0.0)
+    parser.add_argument("--top", type=float, default=360.0)
+    parser.add_argument("--step", type=float, default=5.0)
+    parser.add_argument("--floor", type=float, default=1e-7)
+    parser.add_argument("--out", type=Path, default=Path("."))
+    args = parser.parse_args()
+    print(machine())
+    print(
+        f"openings {args.low:g}..{args.top:g} deg every {args.step:g} deg, bisected to +-0.005 rad; "
+        f"N = 256; floor {args.floor:g} b; base grids {args.bases[0]} and {args.bases[1]}"
+    )
+    same_everywhere = True
+    for n in args.n:
+        found, seconds = {}, {}
+        for base in args.bases:
+            t0 = time.perf_counter()
+            result = map_transitions(
+                SeSP(n=n),
+                (math.radians(args.low), math.radians(args.top)),
+                step=math.radians(args.step),
+                base=base,
+                floor=args.floor,
+                progress=True,
+            )
+            seconds[base] = time.perf_counter() - t0
+            result.to_netcdf(args.out / f"map_transitions_n{n:g}_base{base}.nc")
+            found[base] = brackets(result)
+        a, b = (found[base] for base in args.bases)
+        rows = []
+        for k in range(max(len(a), len(b))):
+            cells = []
+            for side in (a, b):
+                t = side[k] if k < len(side) else None
+                cells += [f"{t[0]} -> {t[1]}", f"{t[2]:.2f}-{t[3]:.2f}", f"{t[3] - t[2]:.2f}"] if t else ["-"] * 3
+            rows.append((f"{n:g}", *cells))
+        same = a == b
+        same_everywhere &= same
+        rows.append((f"{n:g}", "identical" if same else "DIFFERENT", "", f"{seconds[args.bases[0]]:.0f} s", "", "",
+                     f"{seconds[args.bases[1]]:.0f} s"))  # fmt: skip
+        b1, b2 = args.bases
+        table(
+            rows, ["n", f"change {b1}", f"bracket {b1} (deg)", "width", f"change {b2}", f"bracket {b2} (deg)", "width"]
+        )
+    verdict = "yes" if same_everywhere else "no"
+    print(f"\nall brackets identical on base grids {args.bases[0]} and {args.bases[1]}: {verdict}")
+
+
+if __name__ == "__main__":
+    main()
