@@ -37,10 +37,10 @@ but not narrow enough to separate them at this resolution (a pinch behind an
 allowed wedge of small angle α looks 1/α nodes wide on any grid), the neck
 is looked at again on a finer window, until the rule decides it; a neck
 wider than that is a waist of one body (a crescent's ridge dips and rises
-along it) and joins. At the floor an undecided neck joins the bodies: a pinch
-stays about 1/α nodes wide while the bodies' radii grow ``zoom`` times per
-level, so it is decided as a pinch on the way down unless α is below about
-2 · floor / (the bodies' radius); a neck still undecided there is a waist.
+along it) and joins. At the floor an undecided neck keeps the bodies apart:
+the finer windows around a neck are small, so the bodies' radii measured in
+them stay about as wide as the neck, and a pinch behind a thin wedge (the
+ASP's split as Ψ → 0⁺, its body and lens near π) is never decided.
 
 Refinement
 ----------
@@ -341,7 +341,7 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     # them and what is found here are judged by the same rule) and say which coarser component a piece is.
     dist = distance_to_complement(excluded, (), outside)
     at_floor = h / ctx.zoom < ctx.floor
-    found = components(excluded, outside=outside, measure=h * h, neck=0.0 if at_floor else UNDECIDED, distance=dist)
+    found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
     depth = _part_depth(excluded, dist * h if above is None else np.maximum(dist * h, above))
