@@ -115,6 +115,18 @@ def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
     assert not any(c.touches_floor for c in found.components)
 
 
+def test_a_finer_window_that_splits_two_bodies_again_does_not_join_them():
+    """At Ψ = 3.125° the ASP's lens and body touch at two pinches behind allowed crescents about 0.05 b thick.
+    On 65 cells the coarse window keeps them apart at an undecided neck; the finer window around it splits
+    them too, but its line between them falls a node or two from the coarse one, so each finer piece shares
+    nodes with both coarse bodies (they were joined: one component)."""
+    psi = math.radians(3.125)
+    found = excluded_map(SeSP(n=2, opening=psi), base=65, floor=1e-4)
+    assert found.count == 2
+    lens = min(found.components, key=lambda c: c.area)
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.03)
+
+
 def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
     """A hook has no symmetry axis; a fine exact-in-φ raster counted by the same pinch rule finds the same pieces."""
     hook = Polyline([[-0.6, -0.5], [0.5, -0.5], [0.5, 0.6], [0.1, 0.6], [0.1, 0.1]])

@@ -359,18 +359,19 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
                           x0, y0, h, at_floor, stopped)  # fmt: skip
     if at_floor or not zone.any():
         return list(local.values())
-    return _refine(ctx, x0, y0, h, excluded, zone, found.labels, local, dist, depth)
+    return _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth)
 
 
 def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):
     """Label -> (piece of its nodes in ``keep``, or None; the coarser components it shares nodes with in
-    ``coarse``, the cells the coarser window decided)."""
+    ``coarse``, the cells the coarser window decided, as {component: nodes shared})."""
     local = {}
     for k in range(1, found.count + 1):
         mine = found.labels == k
-        owners = set()
+        owners = {}
         if owner_grid is not None:
-            owners = {int(v) for v in np.unique(owner_grid[mine & coarse]) if v}
+            values, shared = np.unique(owner_grid[mine & coarse], return_counts=True)
+            owners = {int(v): int(c) for v, c in zip(values, shared) if v}
         nodes = mine & keep
         piece = None
         if nodes.any():
@@ -404,9 +405,18 @@ def _join(a, b):
     return a.joined(b)
 
 
-def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist, depth):
-    """Look at each cluster of the zone ``ctx.zoom`` times finer; join what is found to the ``local`` pieces."""
+def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth):
+    """Look at each cluster of the zone ``ctx.zoom`` times finer; join what is found to the ``local`` pieces.
+
+    A finer piece belongs to the coarser component it shares most nodes with (its main one), and joins the
+    others it shares nodes with, except those the rule decided apart here (:func:`_decided_apart`) and
+    those that another piece of the same finer window has as its main one: that window split the two, and
+    the nodes they share are a shift of the line between them (the nodes of a pinch go to the body of
+    steepest ascent, which the finer window measures differently).
+    """
     z = ctx.zoom
+    labels = found.labels
+    apart = _decided_apart(labels, found.necks)
     clusters, _ = ndimage.label(zone, np.ones((3, 3), dtype=bool))
     parent = {k: k for k in local}
     pieces = {k: piece for k, (piece, _) in local.items()}
@@ -437,21 +447,43 @@ def _refine(ctx, x0, y0, h, excluded, zone, labels, local, dist, depth):
             assumed=np.kron(near & deep[ys, xs], up).astype(bool),
             above=np.kron(depth[ys, xs], up),
         )
-        for piece, owners in sub:
-            roots = sorted({root(k) for k in owners if k in parent})
-            if not roots:
+        owned = [({k: c for k, c in owners.items() if k in parent}, piece) for piece, owners in sub]
+        mains = {max(shared, key=lambda k: (shared[k], -k)) for shared, _ in owned if shared}
+        for shared, piece in owned:
+            if not shared:
                 if piece is not None:
-                    new.append((piece, set()))
+                    new.append((piece, {}))
                 continue
-            for k in roots[1:]:  # a finer piece that joins two coarse ones: they are one
-                parent[k] = roots[0]
-            pieces[roots[0]] = _join(pieces[roots[0]], piece)
+            main = max(shared, key=lambda k: (shared[k], -k))
+            for k in shared:  # a finer piece that joins two coarse ones: they are one
+                if k not in mains and root(k) != root(main) and (min(k, main), max(k, main)) not in apart:
+                    parent[root(k)] = root(main)
+            pieces[main] = _join(pieces[main], piece)
     groups = {}
     for k, (_, owners) in local.items():
         r = root(k)
-        piece, above = groups.get(r, (None, set()))
-        groups[r] = (_join(piece, pieces[k]), above | owners)
+        piece, above = groups.get(r, (None, {}))
+        groups[r] = (_join(piece, pieces[k]), _summed(above, owners))
     return [g for g in groups.values() if g[0] is not None or g[1]] + new
+
+
+def _summed(a, b):
+    return {k: a.get(k, 0) + b.get(k, 0) for k in a.keys() | b.keys()}
+
+
+def _decided_apart(labels, necks):
+    """Pairs (a, b), a < b, of components that touch on this window but that the rule split at a neck it
+    decided (not an undecided neck): a finer window, which sees only the cells around the neck, does not
+    join them again. Its split between the two may fall a node or two from this window's (the nodes of a
+    pinch go to the body of steepest ascent), so a finer piece can share nodes with both."""
+    pairs = set()
+    for a, b in ((labels[:, 1:], labels[:, :-1]), (labels[1:, :], labels[:-1, :]),
+                 (labels[1:, 1:], labels[:-1, :-1]), (labels[1:, :-1], labels[:-1, 1:])):  # fmt: skip
+        touch = (a > 0) & (b > 0) & (a != b)
+        lo, hi = np.minimum(a[touch], b[touch]), np.maximum(a[touch], b[touch])
+        pairs |= set(zip(lo.tolist(), hi.tolist()))
+    undecided = {(min(int(a), int(b)), max(int(a), int(b))) for _, a, b, _ in necks}
+    return pairs - undecided
 
 
 def _unsettled(excluded, uncertain, settled):
