@@ -7,6 +7,12 @@ search; saves each search as ``map_transitions_n{n}_base{b}.nc`` in
 ``--out``.
 
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
+        [--floor 1e-7] [--out DIR] [--reuse]
+
+``--reuse`` reads a search already saved in ``--out`` (same n and base)
+instead of running it again, with the time it took then; so the two base
+grids can be searched by two processes at once (``--bases 128 128`` and
+``--bases 97 97``) and the table printed afterwards.
 """
 
 import argparse
@@ -14,6 +20,7 @@ import math
 import time
 from pathlib import Path
 
+import xarray as xr
 from _common import machine, table
 
 from sesp import SeSP, map_transitions
@@ -38,6 +45,7 @@ def main():
     parser.add_argument("--step", type=float, default=5.0)
     parser.add_argument("--floor", type=float, default=1e-7)
     parser.add_argument("--out", type=Path, default=Path("."))
+    parser.add_argument("--reuse", action="store_true", help="read searches already saved in --out")
     args = parser.parse_args()
     print(machine())
     print(
@@ -48,17 +56,22 @@ def main():
     for n in args.n:
         found, seconds = {}, {}
         for base in args.bases:
-            t0 = time.perf_counter()
-            result = map_transitions(
-                SeSP(n=n),
-                (math.radians(args.low), math.radians(args.top)),
-                step=math.radians(args.step),
-                base=base,
-                floor=args.floor,
-                progress=True,
-            )
-            seconds[base] = time.perf_counter() - t0
-            result.to_netcdf(args.out / f"map_transitions_n{n:g}_base{base}.nc")
+            path = args.out / f"map_transitions_n{n:g}_base{base}.nc"
+            if args.reuse and path.exists():
+                result = xr.load_dataset(path)
+            else:
+                t0 = time.perf_counter()
+                result = map_transitions(
+                    SeSP(n=n),
+                    (math.radians(args.low), math.radians(args.top)),
+                    step=math.radians(args.step),
+                    base=base,
+                    floor=args.floor,
+                    progress=True,
+                )
+                result.attrs["seconds"] = time.perf_counter() - t0
+                result.to_netcdf(path)
+            seconds[base] = result.attrs["seconds"]
             found[base] = brackets(result)
         a, b = (found[base] for base in args.bases)
         rows = []

@@ -127,6 +127,20 @@ def test_a_finer_window_that_splits_two_bodies_again_does_not_join_them():
     assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.03)
 
 
+def test_parts_thinner_than_the_polylines_departure_from_the_curve_are_the_polylines():
+    """The ASP's lens at 179.375° has inscribed radius 1 − sin(Ψ/2) = 1.5e-5 b; 256 segments depart from the
+    circle by 1.9e-5 b (sesp.maps notes), and the lens is not there; 1024 segments (1.2e-6 b) have it."""
+    asp = SeSP(n=2, opening=math.radians(179.375))
+    x = np.linspace(0.001, 0.01, 32)  # across the lens, 1e-6 b off the axis: 0 < x < 2cos(Ψ/2) = 0.0109
+    for segments, departure in ((256, 1.9e-5), (1024, 1.2e-6)):
+        v = as_pair(asp, segments=segments).vertices1
+        middle = 0.5 * (v[1:] + v[:-1])
+        assert 1 - np.hypot(*middle.T).min() == pytest.approx(departure, rel=0.02)  # chord middles: the largest
+    width_256, _ = widest_window(asp, x, 1e-6, segments=256)
+    width_1024, _ = widest_window(asp, x, 1e-6, segments=1024)
+    assert (width_256 > 0).all() and (width_1024 == 0).all()
+
+
 def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
     """A hook has no symmetry axis; a fine exact-in-φ raster counted by the same pinch rule finds the same pieces."""
     hook = Polyline([[-0.6, -0.5], [0.5, -0.5], [0.5, 0.6], [0.1, 0.6], [0.1, 0.1]])

@@ -24,6 +24,20 @@ where an excluded node was found inside it, so a component thinner than the
 finest cells it was looked for with (the floor) can be missed, and is
 reported with ``touches_floor`` when it was seen only at the floor.
 
+Nor does an excluded node say how deep in E it lies: an allowed sliver
+thinner than the cells that no node falls in is invisible, and the bodies on
+either side of it are seen as one. The ASP's lens and body, for small Ψ, are
+parted only by two allowed crescents about Ψ·b/2 thick, so the opening below
+which the map sees them as one depends on the base grid (a few tenths of a
+degree to about 2°, ``benchmarks/README.md``).
+
+The map is of the pair of polylines (``segments`` per curve), not of the
+curves: a polyline departs from its curve by up to about (s/2)²·κ/2 (s the
+segment length, κ the curvature), 1.9e-5 b for the ASP with 256 segments
+near Ψ = π. Parts of E thinner than that are the polylines'. The ASP's lens
+at Ψ = 179.375° (inscribed radius 1 − sin(Ψ/2) = 1.5e-5 b) is there with
+1024 segments and not with 256.
+
 Components and the pinch rule
 -----------------------------
 On each window the excluded nodes are split into components by the
@@ -61,8 +75,12 @@ component lying within a few cells of a body and thinner than a couple of
 those finest cells (each 1/64 of the body's inscribed radius) can be missed:
 that is the maps' blind spot.
 The finer window evaluates only the refined cells (and one cell around
-them); the components it finds are joined to the coarser ones they overlap
-outside the refined cells, or are new components. Refinement stops when the
+them); each component it finds belongs to the coarser one it shares most
+nodes with outside the refined cells, or is new. It joins the other coarser
+components it shares nodes with, unless the rule split the two on the
+coarser window at a neck it decided, or another component of the finer
+window belongs to that one (the finer window split them too: the line
+between two touching bodies falls a node or two apart on the two windows). Refinement stops when the
 next cells would be smaller than ``floor``.
 """
 
@@ -563,7 +581,8 @@ def map_transitions(
 
     Maps every ``step`` over ``opening_range`` (radians, Ψ < 2π kept), then
     bisects each step whose count changes until the bracket is at most
-    ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°).
+    ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°). ``progress``: a bar
+    of the maps and, below it, one of the positions of the map being made.
 
     Returns
     -------
@@ -586,7 +605,8 @@ def map_transitions(
 
         def count(opening):
             if opening not in maps:
-                maps[opening] = excluded_map(make(opening), segments=segments, base=base, floor=floor)
+                particle = make(opening)
+                maps[opening] = excluded_map(particle, segments=segments, base=base, floor=floor, progress=progress)
                 bar.update(1)
             return maps[opening].count
 
