@@ -94,6 +94,24 @@ def test_clearance_is_the_distance_between_the_curves_and_certifies_its_disk():
     assert checked >= 20
 
 
+def test_clearance_pruned_by_boxes_of_segment_runs_is_the_capped_distance():
+    from sesp.kernels.orientations import chunk_boxes, chunk_count, clearance
+
+    rng = np.random.default_rng(8)
+    pair = as_pair(SeSP(n=4, opening=math.radians(100)), segments=250)  # the last run of 16 is shorter
+    v1, v2 = pair.vertices1, pair.vertices2
+    boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
+    moved, boxes2 = np.empty_like(v2), np.empty((chunk_count(v2), 4))
+    measured = 0
+    for x, y, phi, cap in zip(*rng.uniform([-2, -2, 0, 0.001], [2, 2, 2 * np.pi, 0.3], (200, 4)).T):
+        c, s = math.cos(phi), math.sin(phi)
+        exact = _polyline_distance(v1, v2 @ np.array([[c, s], [-s, c]]) + (x, y))
+        got = clearance(v1, boxes1, v2, x, y, phi, cap, moved, boxes2)
+        assert got == pytest.approx(min(cap, exact), abs=1e-12)
+        measured += 0 < exact < cap
+    assert measured >= 15  # not only overlaps and far positions
+
+
 def test_asp_map_finds_the_exact_two_components_and_none_past_pi():
     found = excluded_map(ASP90, base=64)
     assert found.count == 2

@@ -466,13 +466,13 @@ def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth):
             above=np.kron(depth[ys, xs], up),
         )
         owned = [({k: c for k, c in owners.items() if k in parent}, piece) for piece, owners in sub]
-        mains = {max(shared, key=lambda k: (shared[k], -k)) for shared, _ in owned if shared}
-        for shared, piece in owned:
-            if not shared:
+        owned = [(shared, piece, _main_owner(shared)) for shared, piece in owned]
+        mains = {main for _, _, main in owned if main is not None}
+        for shared, piece, main in owned:
+            if main is None:
                 if piece is not None:
                     new.append((piece, {}))
                 continue
-            main = max(shared, key=lambda k: (shared[k], -k))
             for k in shared:  # a finer piece that joins two coarse ones: they are one
                 if k not in mains and root(k) != root(main) and (min(k, main), max(k, main)) not in apart:
                     parent[root(k)] = root(main)
@@ -483,6 +483,11 @@ def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth):
         piece, above = groups.get(r, (None, {}))
         groups[r] = (_join(piece, pieces[k]), _summed(above, owners))
     return [g for g in groups.values() if g[0] is not None or g[1]] + new
+
+
+def _main_owner(shared):
+    """The coarser component a finer piece shares most nodes with (the lowest label on a tie), or None."""
+    return max(shared, key=lambda k: (shared[k], -k)) if shared else None
 
 
 def _summed(a, b):

@@ -339,27 +339,63 @@ def _segments_distance2(px, py, qx, qy, ax, ay, bx, by):
     )
 
 
+CHUNK = 16  # segments per bounding box in :func:`clearance`
+
+
 @njit(**JIT)
-def clearance(v1, v2, spans2, tx, ty, phi, cap):
+def chunk_boxes(v, out):
+    """Write to ``out`` (xmin, xmax, ymin, ymax) of each run of ``CHUNK`` segments of the polyline ``v``."""
+    for c in range(out.shape[0]):
+        lo = c * CHUNK
+        hi = min(lo + CHUNK, v.shape[0] - 1)
+        out[c, 0] = out[c, 1] = v[lo, 0]
+        out[c, 2] = out[c, 3] = v[lo, 1]
+        for k in range(lo + 1, hi + 1):
+            out[c, 0] = min(out[c, 0], v[k, 0])
+            out[c, 1] = max(out[c, 1], v[k, 0])
+            out[c, 2] = min(out[c, 2], v[k, 1])
+            out[c, 3] = max(out[c, 3], v[k, 1])
+    return out
+
+
+@njit(**JIT)
+def chunk_count(v):
+    """Runs of ``CHUNK`` segments in the polyline ``v`` (the last may be shorter)."""
+    return (v.shape[0] - 2) // CHUNK + 1
+
+
+@njit(**JIT)
+def _boxes_distance2(a, b):
+    dx = max(0.0, a[0] - b[1], b[0] - a[1])
+    dy = max(0.0, a[2] - b[3], b[2] - a[3])
+    return dx * dx + dy * dy
+
+
+@njit(**JIT)
+def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
     """min(cap, distance between curve 1 and curve 2 turned by φ and moved to t), b.
 
-    Only pairs whose annuli (as in :func:`blocked_angles`) come within ``cap``
-    are measured: the others are farther apart than ``cap`` at every φ.
+    ``boxes1``: :func:`chunk_boxes` of curve 1; ``moved``, ``boxes2``: scratch
+    for curve 2's vertices at (t, φ) and their boxes. Only the segments of
+    runs whose boxes are nearer than the nearest distance found so far are
+    measured: the others cannot be nearer.
     """
     c = math.cos(phi)
     s = math.sin(phi)
+    for k in range(v2.shape[0]):
+        moved[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
+        moved[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
+    chunk_boxes(moved, boxes2)
     best2 = cap * cap
-    candidates = np.empty(spans2[0].shape[0], dtype=np.int64)
-    for i in range(v1.shape[0] - 1):
-        px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
-        near, far = _segment_distances(px, py, qx, qy, tx, ty)
-        for k in range(_candidates(spans2, near, far, cap, candidates)):
-            j = candidates[k]
-            ax = tx + c * v2[j, 0] - s * v2[j, 1]
-            ay = ty + s * v2[j, 0] + c * v2[j, 1]
-            bx = tx + c * v2[j + 1, 0] - s * v2[j + 1, 1]
-            by = ty + s * v2[j + 1, 0] + c * v2[j + 1, 1]
-            best2 = min(best2, _segments_distance2(px, py, qx, qy, ax, ay, bx, by))
+    for a in range(boxes1.shape[0]):
+        for b in range(boxes2.shape[0]):
+            if _boxes_distance2(boxes1[a], boxes2[b]) > best2:
+                continue
+            for i in range(a * CHUNK, min((a + 1) * CHUNK, v1.shape[0] - 1)):
+                px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
+                for j in range(b * CHUNK, min((b + 1) * CHUNK, v2.shape[0] - 1)):
+                    d2 = _segments_distance2(px, py, qx, qy, moved[j, 0], moved[j, 1], moved[j + 1, 0], moved[j + 1, 1])
+                    best2 = min(best2, d2)
     return math.sqrt(best2)
 
 
@@ -378,7 +414,7 @@ CLEARANCE_FRACTIONS = _halving_fractions(6)
 
 
 @njit(**JIT, parallel=True)
-def windows_at(v1, v2, spans2, xs, ys, slack, gap, contact, caps, width, middle, clear):
+def windows_at(v1, v2, spans2, boxes1, xs, ys, slack, gap, contact, caps, width, middle, clear):
     """Per position p: the widest allowed window ``width[p]`` (radians), its ``middle[p]``, and the largest
     clearance (b) found at the orientations ``CLEARANCE_FRACTIONS`` across that window, capped at
     ``caps[p]`` + ``contact`` (``clear[p]``; 0 where no orientation is allowed or ``caps[p]`` is 0).
@@ -392,9 +428,11 @@ def windows_at(v1, v2, spans2, xs, ys, slack, gap, contact, caps, width, middle,
         if width[p] == 0.0 or caps[p] <= 0.0:
             continue
         cap = caps[p] + contact
+        moved = np.empty_like(v2)
+        boxes2 = np.empty((chunk_count(v2), 4))
         for fraction in CLEARANCE_FRACTIONS:
             phi = middle[p] + (fraction - 0.5) * width[p]
-            clear[p] = max(clear[p], clearance(v1, v2, spans2, xs[p], ys[p], phi, cap))
+            clear[p] = max(clear[p], clearance(v1, boxes1, v2, xs[p], ys[p], phi, cap, moved, boxes2))
             if clear[p] >= cap:
                 break
 
@@ -428,5 +466,6 @@ def widest_windows(v1, v2, xs, ys, slack, gap, contact=0.0, caps=None):
     ys = np.ascontiguousarray(ys, dtype=float)
     caps = np.zeros(len(xs)) if caps is None else np.ascontiguousarray(caps, dtype=float)
     width, middle, clear = np.empty(len(xs)), np.empty(len(xs)), np.empty(len(xs))
-    windows_at(v1, v2, radial_spans(v2), xs, ys, slack, gap, float(contact), caps, width, middle, clear)
+    boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
+    windows_at(v1, v2, radial_spans(v2), boxes1, xs, ys, slack, gap, float(contact), caps, width, middle, clear)
     return width, middle, clear
