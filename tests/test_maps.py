@@ -190,6 +190,35 @@ def test_components_report_undecided_necks_only_when_asked():
     assert 8 <= found.necks[0, 3] <= 10
 
 
+def _dumbbell(h):
+    """Two disks of radius 1 b about x = ±2 b joined by a bar 1.3 b wide, on nodes spaced h b: (mask, x, y)."""
+    y, x = np.mgrid[-1.5:1.5:h, -3.5:3.5:h]
+    mask = ((np.abs(x) - 2) ** 2 + y**2 <= 1) | ((np.abs(x) < 2) & (np.abs(y) <= 0.65))
+    return mask, x, y
+
+
+@pytest.mark.parametrize("coarse_share", [1.0, 4.0])
+def test_a_neck_that_keeps_its_width_on_finer_cells_is_a_waist(coarse_share):
+    """The bar (s / p = 0.65) stays undecided at any cell size. Seen again on cells 4 times smaller, its
+    width in b stays: it is a waist, and the bodies join. Had the coarser window seen it 4 times wider (a
+    pinch behind a wedge keeps its width in nodes), it stays undecided."""
+    from sesp.maps import _waists
+    from sesp.topology import distance_to_complement
+
+    h = 0.1
+    coarse = components(_dumbbell(h)[0], neck=0.8)
+    assert coarse.count == 2 and len(coarse.necks) == 1
+    mask, x, y = _dumbbell(h / 4)
+    dist = distance_to_complement(mask, (), False)
+    fine = components(mask, neck=0.8, distance=dist)
+    assert fine.count == 2 and len(fine.necks) == 1  # the rule alone never decides it
+    necks_above = np.where(np.abs(x) < 2, coarse_share * coarse.necks[0, 3] * h, 0.0)
+    joined = _waists(fine, necks_above, h / 4, mask, dist)
+    assert joined.count == (1 if coarse_share == 1.0 else 2)
+    assert len(joined.necks) == (0 if coarse_share == 1.0 else 1)
+    assert joined.sizes.sum() == fine.sizes.sum()
+
+
 def test_transitions_on_maps_bracket_the_asp_end_at_pi():
     """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
     4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two

@@ -51,7 +51,13 @@ but not narrow enough to separate them at this resolution (a pinch behind an
 allowed wedge of small angle α looks 1/α nodes wide on any grid), the neck
 is looked at again on a finer window, until the rule decides it; a neck
 wider than that is a waist of one body (a crescent's ridge dips and rises
-along it) and joins. At the floor an undecided neck keeps the bodies apart:
+along it) and joins. So does an undecided neck that the finer window sees
+about as wide in b as the coarser one did (at least ``WAIST``, 0.6, of it,
+where the cells shrank ``zoom`` times): a pinch behind a wedge keeps its
+width in nodes, so its width in b shrinks with the cells, while a waist
+narrower than 0.8 of the bodies keeps its width on every window (the n = 4
+body at Ψ = 170° on a base of 64 cells, which the floor otherwise split in
+two). At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
 ASP's split as Ψ → 0⁺, its body and lens near π) is never decided.
@@ -99,7 +105,7 @@ from .orientations import ANGLE_GAP, SCREEN_SLACK
 from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
-from .topology import RESOLVED_PEAK, components, distance_to_complement, opening_family
+from .topology import RESOLVED_PEAK, _renumber, components, distance_to_complement, opening_family
 
 __all__ = [
     "MapComponent",
@@ -124,6 +130,9 @@ _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not clas
 # finer: a pinch behind an allowed wedge of angle α looks 1/α nodes wide on any grid, so refining it shrinks
 # s / p; a neck wider than this is a body's own waist (a crescent's ridge dips and rises) and joins.
 UNDECIDED = 0.8
+# An undecided neck that keeps at least this share of its width (b) when the cells shrink ``zoom`` times is a
+# waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
+WAIST = 0.6
 
 
 def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
@@ -333,7 +342,9 @@ def _disk(radius):
     return x * x + y * y <= radius * radius
 
 
-def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None, above=None):
+def _window(
+    ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None, above=None, necks_above=None
+):
     """The pieces of E seen on one window of nodes spaced h, lower-left corner (x0, y0).
 
     ``evaluate``: nodes classified here; the others keep the coarser
@@ -346,7 +357,9 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     allowed hole there would not change the count of components).
     ``above``: per node, the depth (b) the coarser windows measured for
     the part it belonged to, so that a body cut by this window's edge keeps
-    its depth (see :func:`_untapered`).
+    its depth (see :func:`_untapered`). ``necks_above``: per node, the
+    width (b) of the undecided neck the coarser window refined there, 0
+    elsewhere (see :func:`_waists`).
 
     Returns a list of (piece or None, owners): each component found here,
     with the coarser components it touches (to be joined with them).
@@ -360,11 +373,13 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
     dist = distance_to_complement(excluded, (), outside)
     at_floor = h / ctx.zoom < ctx.floor
     found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist)
+    found = _waists(found, necks_above, h, excluded, dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
     depth = _part_depth(excluded, dist * h if above is None else np.maximum(dist * h, above))
     zone = _untapered(_unsettled(excluded, uncertain, settled) & active, depth, h)
     zone = _linked(zone, excluded, uncertain, dist, active)
+    neck_width = np.zeros(zone.shape)
     for node, a, b, s in found.necks:
         if a and b and a != b:
             iy, ix = divmod(int(node), zone.shape[1])
@@ -372,12 +387,39 @@ def _window(ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=Tru
             near = np.zeros_like(zone)
             near[max(iy - r, 0) : iy + r + 1, max(ix - r, 0) : ix + r + 1] = True
             zone |= near & (excluded | uncertain) & active
+            neck_width[near] = np.maximum(neck_width[near], s * h)
     zone, stopped = _affordable(zone, ctx.zoom)
     local = _local_pieces(found, dist, active & (~zone if not at_floor else True), owner_grid, ~active,
                           x0, y0, h, at_floor, stopped)  # fmt: skip
     if at_floor or not zone.any():
         return list(local.values())
-    return _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth)
+    return _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth, neck_width)
+
+
+def _waists(found, necks_above, h, excluded, dist):
+    """``found`` with the bodies joined across each undecided neck that is a waist: one that kept at least
+    ``WAIST`` of the width (b) the coarser window measured for it, while the cells shrank ``zoom`` times.
+
+    Behind an allowed wedge a pinch looks about as many nodes wide on every window, so its width in b
+    shrinks with the cells; a waist of one body keeps its width. A neck the coarser window did not refine
+    (``necks_above`` 0 there) is left undecided.
+    """
+    if necks_above is None or not len(found.necks):
+        return found
+    merged = np.arange(found.count + 1)
+    kept = []
+    for row in found.necks:
+        node, a, b, s = int(row[0]), int(row[1]), int(row[2]), row[3]
+        coarse = necks_above.flat[node]
+        if a and b and a != b and coarse > 0 and s * h >= WAIST * coarse:
+            merged[merged == merged[b]] = merged[a]
+        else:
+            kept.append(row)
+    if len(kept) == len(found.necks):
+        return found
+    necks = np.array(kept, dtype=float).reshape(-1, 4)
+    necks[:, 1:3] = merged[necks[:, 1:3].astype(np.int64)]
+    return _renumber(merged[found.labels], excluded, found.measure, dist, necks)
 
 
 def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):
@@ -423,7 +465,7 @@ def _join(a, b):
     return a.joined(b)
 
 
-def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth):
+def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth, neck_width):
     """Look at each cluster of the zone ``ctx.zoom`` times finer; join what is found to the ``local`` pieces.
 
     A finer piece belongs to the coarser component it shares most nodes with (its main one), and joins the
@@ -464,6 +506,7 @@ def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth):
             np.kron(settled_labels[ys, xs], up.astype(np.int64)),
             assumed=np.kron(near & deep[ys, xs], up).astype(bool),
             above=np.kron(depth[ys, xs], up),
+            necks_above=np.kron(neck_width[ys, xs], up),
         )
         owned = [({k: c for k, c in owners.items() if k in parent}, piece) for piece, owners in sub]
         owned = [(shared, piece, _main_owner(shared)) for shared, piece in owned]
