@@ -159,6 +159,27 @@ def test_parts_thinner_than_the_polylines_departure_from_the_curve_are_the_polyl
     assert (width_256 > 0).all() and (width_1024 == 0).all()
 
 
+def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marked_unresolved():
+    """An ASP's polyline of N equal arcs departs from the circle by the sagitta 1 − cos(Δ/2), Δ = (2π − Ψ)/N;
+    a pair departs by both. With 16 segments the set at 170° is the 16-gon's (4 pieces, each thinner than
+    the 0.011 b departure, or seen only at the floor); with 256 the lens and body are resolved."""
+    from sesp.maps import _transitions_dataset
+
+    psi = math.radians(170)
+    for segments in (16, 256):
+        sagitta = 1 - math.cos((2 * math.pi - psi) / segments / 2)
+        assert as_pair(SeSP(n=2, opening=psi), segments=segments).departure == pytest.approx(2 * sagitta, rel=1e-6)
+    assert as_pair(Polyline([[0, 0], [1, 0]])).departure == 0.0
+    polygon = excluded_map(SeSP(n=2, opening=psi), segments=16, base=48, floor=1e-4)
+    assert polygon.count != 2 and all(polygon.limit(c) for c in polygon.components)
+    arc = excluded_map(SeSP(n=2, opening=psi), segments=256, base=48, floor=1e-4)
+    assert arc.count == 2 and not any(arc.limit(c) for c in arc.components)
+    assert arc.dataset().attrs["departure"] == pytest.approx(2 * sagitta, rel=1e-6)
+    both = _transitions_dataset({psi: polygon, psi + 0.01: arc}, [(psi, psi + 0.01)], 1e-4, 48)
+    assert both.transition_unresolved.values.tolist() == [True]
+    assert both.unresolved.values[1].tolist() == [False, False, False, False]
+
+
 def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
     """A hook has no symmetry axis; a fine exact-in-φ raster counted by the same pinch rule finds the same pieces."""
     hook = Polyline([[-0.6, -0.5], [0.5, -0.5], [0.5, 0.6], [0.1, 0.6], [0.1, 0.1]])
@@ -239,7 +260,8 @@ def test_cli_one_opening_as_json(capsys):
     assert main(["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["opening_deg"] == 90 and out["count"] == 2
-    assert {"area", "inscribed_radius", "bbox", "touches_floor"} <= set(out["components"][0])
+    assert {"area", "inscribed_radius", "bbox", "touches_floor", "unresolved"} <= set(out["components"][0])
+    assert out["components"][0]["unresolved"] == "" and 0 < out["departure"] < 1e-4
 
 
 def test_map_arguments_are_checked():

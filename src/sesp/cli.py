@@ -298,8 +298,9 @@ def _map_json(found, degrees) -> dict:
     return {
         "opening_deg": degrees,
         "count": found.count,
-        "components": [c.as_dict() for c in found.components],
+        "components": [dict(c.as_dict(), unresolved=found.limit(c)) for c in found.components],
         "floor": found.floor,
+        "departure": found.departure,
         "base_cells": found.base_cells,
         "finest_cell": found.finest,
         "positions": found.positions,
@@ -318,6 +319,7 @@ def _transitions_json(result) -> dict:
             "high_deg": float(result.high_degrees[t]),
             "count_low": int(result.count_low[t]),
             "count_high": int(result.count_high[t]),
+            "unresolved": bool(result.transition_unresolved[t]),
         }
         for t in range(result.sizes["transition"])
     ]

@@ -201,10 +201,18 @@ class ExcludedMap:
     reach: float
     positions: int  # positions classified, over all levels
     finest: float  # b: the smallest cell side used
+    departure: float = 0.0  # b: how far the polylines depart from the curves (:attr:`sesp.Pair.departure`)
 
     @property
     def count(self) -> int:
         return len(self.components)
+
+    def limit(self, component: MapComponent) -> str:
+        """What a component may be an artefact of: "floor" (seen only at the floor), "polylines" (thinner
+        than the polylines depart from the curves: it may be theirs, not the curves'), or "" (resolved)."""
+        if component.touches_floor:
+            return "floor"
+        return "polylines" if component.inscribed_radius < self.departure else ""
 
     def dataset(self) -> xr.Dataset:
         """Per-component area, inscribed radius, bounding box and floor flag, largest first."""
@@ -215,10 +223,16 @@ class ExcludedMap:
                 "area": ("component", [c.area for c in comps], {"units": "b^2"}),
                 "inscribed_radius": ("component", [c.inscribed_radius for c in comps], {"units": "b"}),
                 "touches_floor": ("component", np.array([c.touches_floor for c in comps], dtype=bool)),
+                "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
                 "bbox": (("component", "side"), box, {"units": "b"}),
             },
             coords={"component": np.arange(1, len(comps) + 1), "side": ["xmin", "xmax", "ymin", "ymax"]},
-            attrs={"floor": self.floor, "base_cells": self.base_cells, "positions": self.positions},
+            attrs={
+                "floor": self.floor,
+                "base_cells": self.base_cells,
+                "positions": self.positions,
+                "departure": self.departure,
+            },
         )
 
 
@@ -294,7 +308,7 @@ def excluded_map(
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
     found = sorted((_component(p) for p, _ in pieces if p is not None), key=lambda c: -c.area)
-    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest)
+    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure)
 
 
 def _component(piece: _Piece) -> MapComponent:
@@ -636,9 +650,12 @@ def map_transitions(
     -------
     xarray.Dataset
         ``count(opening)`` and per component ``area``, ``inscribed_radius``,
-        ``touches_floor`` (opening, component; NaN / False beyond the count)
-        at every opening mapped; ``low``, ``high`` (rad), ``low_degrees``,
-        ``high_degrees``, ``count_low``, ``count_high`` per ``transition``.
+        ``touches_floor``, ``unresolved`` (:meth:`ExcludedMap.limit`)
+        (opening, component; NaN / False beyond the count) and ``departure``
+        (b) at every opening mapped; ``low``, ``high`` (rad),
+        ``low_degrees``, ``high_degrees``, ``count_low``, ``count_high`` and
+        ``transition_unresolved`` (a component at either end is unresolved:
+        the bracket may be the floor's or the polylines') per ``transition``.
     """
     lo, hi = (float(v) for v in opening_range)
     if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
@@ -681,23 +698,29 @@ def _transitions_dataset(maps, brackets, floor, base):
     area = np.full((len(openings), width), np.nan)
     radius = np.full((len(openings), width), np.nan)
     at_floor = np.zeros((len(openings), width), dtype=bool)
+    unresolved = np.zeros((len(openings), width), dtype=bool)
     for i, o in enumerate(openings):
         for k, c in enumerate(maps[o].components):
             area[i, k], radius[i, k], at_floor[i, k] = c.area, c.inscribed_radius, c.touches_floor
+            unresolved[i, k] = bool(maps[o].limit(c))
     low = np.array([b[0] for b in brackets])
     high = np.array([b[1] for b in brackets])
+    ends_unresolved = [any(maps[o].limit(c) for o in b for c in maps[o].components) for b in brackets]
     return xr.Dataset(
         {
             "count": ("opening", [maps[o].count for o in openings]),
             "area": (("opening", "component"), area, {"units": "b^2"}),
             "inscribed_radius": (("opening", "component"), radius, {"units": "b"}),
             "touches_floor": (("opening", "component"), at_floor),
+            "unresolved": (("opening", "component"), unresolved),
+            "departure": ("opening", [maps[o].departure for o in openings], {"units": "b"}),
             "low": ("transition", low, {"units": "rad"}),
             "high": ("transition", high, {"units": "rad"}),
             "low_degrees": ("transition", np.degrees(low), {"units": "degree"}),
             "high_degrees": ("transition", np.degrees(high), {"units": "degree"}),
             "count_low": ("transition", np.array([maps[b[0]].count for b in brackets], dtype=int)),
             "count_high": ("transition", np.array([maps[b[1]].count for b in brackets], dtype=int)),
+            "transition_unresolved": ("transition", np.array(ends_unresolved, dtype=bool)),
         },
         coords={
             "opening": ("opening", openings, {"units": "rad", "long_name": "opening Ψ"}),

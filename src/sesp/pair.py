@@ -69,6 +69,12 @@ class Pair:
         return self.curve1.max_radius + self.curve2.max_radius + self.contact
 
     @property
+    def departure(self) -> float:
+        """How far (b) the polylines depart from the curves, summed over the two SeSPs (0 for Polylines, which
+        are their own curves): a set of positions thinner than this may be the polylines' and not the curves'."""
+        return sum(p.departure(self.segments) if isinstance(p, SeSP) else 0.0 for p in (self.particle, self.other))
+
+    @property
     def tolerance(self) -> float:
         """Contact tolerance (b): curves closer than this count as touching."""
         return TOUCH_TOLERANCE * self.reach

@@ -82,14 +82,15 @@ def format_map(found, particle=None) -> str:
     lines.append(
         f"excluded components on an adaptive map, exact in phi: {found.count}"
         f" (base {found.base_cells} cells, finest cell {found.finest:.2g} b, floor {found.floor:.2g} b,"
-        f" {found.positions} positions)"
+        f" {found.positions} positions; the polylines depart from the curves by {found.departure:.2g} b)"
     )
     lines.append(
-        f"{'#':>3} {'area b^2':>12} {'inscribed b':>12}  {'x from':>9} {'x to':>9} {'y from':>9} {'y to':>9}  floor"
+        f"{'#':>3} {'area b^2':>12} {'inscribed b':>12}  {'x from':>9} {'x to':>9} {'y from':>9} {'y to':>9}"
+        "  unresolved"
     )
     for k, c in enumerate(found.components, start=1):
         box = " ".join(f"{v:9.4f}" for v in c.bbox)
-        lines.append(f"{k:3d} {c.area:12.5g} {c.inscribed_radius:12.4g}  {box}  {'yes' if c.touches_floor else 'no'}")
+        lines.append(f"{k:3d} {c.area:12.5g} {c.inscribed_radius:12.4g}  {box}  {found.limit(c) or '-'}")
     return "\n".join(lines)
 
 
@@ -105,10 +106,13 @@ def format_map_transitions(result, family=None) -> str:
     if not result.sizes["transition"]:
         lines.append("  none")
     for t in range(result.sizes["transition"]):
+        unresolved = "transition_unresolved" in result and bool(result.transition_unresolved[t])
         lines.append(
             f"  * {int(result.count_low[t])} -> {int(result.count_high[t])} at Psi in"
             f" [{float(result.low_degrees[t]):.3f}, {float(result.high_degrees[t]):.3f}]"
-        )
+            + ("  (unresolved: a component at an end is seen only at the floor or is thinner than the polylines"
+               " depart from the curves)" if unresolved else "")
+        )  # fmt: skip
     return "\n".join(lines)
 
 

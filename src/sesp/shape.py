@@ -304,6 +304,28 @@ class SeSP:
         theta, _ = self._upper_arc_table()
         return float(np.hypot(*self.point(theta).T).max())
 
+    def departure(self, segments: int = DEFAULT_SEGMENTS) -> float:
+        """Largest distance (b) from a point of the curve to its :meth:`polyline` of ``segments`` segments.
+
+        Measured at the points of the dense arc-length table (chords within
+        1e-10 of the curve), each against the polyline segment spanning its
+        arc length and the two beside it; about (s/2)²·κ/2 at the largest
+        curvature κ, s the segment length.
+        """
+        theta, arc = self._upper_arc_table()
+        v = self.polyline(segments).vertices
+        pts = self.point(theta)
+        n_seg = len(v) - 1
+        k = np.clip((arc * (n_seg / (2.0 * arc[-1]))).astype(np.int64), 0, n_seg - 1)
+        best = np.full(len(pts), np.inf)
+        for shift in (-1, 0, 1):
+            j = np.clip(k + shift, 0, n_seg - 1)
+            a, d = v[j], v[j + 1] - v[j]
+            w = pts - a
+            lam = np.clip((w * d).sum(-1) / np.maximum((d * d).sum(-1), 1e-300), 0.0, 1.0)
+            best = np.minimum(best, np.hypot(*(w - lam[:, None] * d).T))
+        return float(best.max())
+
     def polyline(self, segments: int = DEFAULT_SEGMENTS) -> Polyline:
         """The curve as N segments spanning equal arc length (equal-distance sampling).
 
