@@ -180,6 +180,17 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
     assert both.unresolved.values[1].tolist() == [False, False, False, False]
 
 
+def test_a_component_that_encloses_allowed_slivers_is_marked():
+    """At Ψ = 0.625° the ASP's lens and body (exact: two components) are parted by crescents about Ψ·b/2 =
+    0.005 b thick, a tenth of a cell of 65. The map sees one component, with allowed nodes inside it where a
+    crescent passed through a node: it is marked "slivers" (it may be more than one). At 90° nothing is."""
+    thin = excluded_map(SeSP(n=2, opening=math.radians(0.625)), base=65, floor=1e-4)
+    assert thin.count == 1 and thin.components[0].encloses_slivers
+    assert thin.limit(thin.components[0]) == "slivers" and thin.dataset().unresolved.values.tolist() == [True]
+    wide = excluded_map(ASP90, base=64, floor=1e-4)
+    assert wide.count == 2 and not any(c.encloses_slivers for c in wide.components)
+
+
 def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
     """A hook has no symmetry axis; a fine exact-in-φ raster counted by the same pinch rule finds the same pieces."""
     hook = Polyline([[-0.6, -0.5], [0.5, -0.5], [0.5, 0.6], [0.1, 0.6], [0.1, 0.1]])
@@ -260,7 +271,9 @@ def test_cli_one_opening_as_json(capsys):
     assert main(["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["opening_deg"] == 90 and out["count"] == 2
-    assert {"area", "inscribed_radius", "bbox", "touches_floor", "unresolved"} <= set(out["components"][0])
+    assert {"area", "inscribed_radius", "bbox", "touches_floor", "encloses_slivers", "unresolved"} <= set(
+        out["components"][0]
+    )
     assert out["components"][0]["unresolved"] == "" and 0 < out["departure"] < 1e-4
 
 

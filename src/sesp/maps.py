@@ -29,14 +29,19 @@ thinner than the cells that no node falls in is invisible, and the bodies on
 either side of it are seen as one. The ASP's lens and body, for small Ψ, are
 parted only by two allowed crescents about Ψ·b/2 thick, so the opening below
 which the map sees them as one depends on the base grid (a few tenths of a
-degree to about 2°, ``benchmarks/README.md``).
+degree to about 2°, ``benchmarks/README.md``). Where a sliver passed
+through a node, that node is allowed and enclosed by the component, which
+is marked (``MapComponent.encloses_slivers``: it may be more than one).
 
 The map is of the pair of polylines (``segments`` per curve), not of the
 curves: a polyline departs from its curve by up to about (s/2)²·κ/2 (s the
 segment length, κ the curvature), 1.9e-5 b for the ASP with 256 segments
 near Ψ = π. Parts of E thinner than that are the polylines'. The ASP's lens
 at Ψ = 179.375° (inscribed radius 1 − sin(Ψ/2) = 1.5e-5 b) is there with
-1024 segments and not with 256.
+1024 segments and not with 256. So a component whose inscribed radius is
+smaller than the two polylines' departures summed (:attr:`sesp.Pair.departure`)
+is marked unresolved (:meth:`ExcludedMap.limit`), as is one seen only at the
+floor, and so is a transition with such a component at either end.
 
 Components and the pinch rule
 -----------------------------
@@ -133,6 +138,7 @@ UNDECIDED = 0.8
 # An undecided neck that keeps at least this share of its width (b) when the cells shrink ``zoom`` times is a
 # waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
 WAIST = 0.6
+_SLIVER = 2.0  # nodes: an allowed cluster enclosed by a component and no deeper than this is a sliver's trace
 
 
 def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
@@ -171,6 +177,12 @@ class MapComponent:
         not be refined further (the floor): it may be thinner than the floor.
     x, y, cell : ndarray
         Its excluded nodes (b) and their cell sides (b), for plotting.
+    encloses_slivers : bool
+        It encloses nodes that are not excluded, in clusters no more than
+        ``_SLIVER`` nodes from the set on every side: allowed slivers seen
+        only where a node happened to fall in them. Slivers thinner than the
+        cells may part it (the ASP's lens and body for small Ψ): it may be
+        more than one component.
     """
 
     area: float
@@ -180,14 +192,16 @@ class MapComponent:
     x: np.ndarray = field(repr=False)
     y: np.ndarray = field(repr=False)
     cell: np.ndarray = field(repr=False)
+    encloses_slivers: bool = False
 
     def as_dict(self) -> dict:
-        """JSON-ready: area, inscribed radius, bounding box, floor flag."""
+        """JSON-ready: area, inscribed radius, bounding box, floor and sliver flags."""
         return {
             "area": self.area,
             "inscribed_radius": self.inscribed_radius,
             "bbox": [float(v) for v in self.bbox],
             "touches_floor": self.touches_floor,
+            "encloses_slivers": self.encloses_slivers,
         }
 
 
@@ -208,10 +222,13 @@ class ExcludedMap:
         return len(self.components)
 
     def limit(self, component: MapComponent) -> str:
-        """What a component may be an artefact of: "floor" (seen only at the floor), "polylines" (thinner
-        than the polylines depart from the curves: it may be theirs, not the curves'), or "" (resolved)."""
+        """What a component may be an artefact of: "floor" (seen only at the floor), "slivers" (it encloses
+        allowed slivers seen at isolated nodes, which may part it), "polylines" (thinner than the polylines
+        depart from the curves: it may be theirs, not the curves'), or "" (resolved)."""
         if component.touches_floor:
             return "floor"
+        if component.encloses_slivers:
+            return "slivers"
         return "polylines" if component.inscribed_radius < self.departure else ""
 
     def dataset(self) -> xr.Dataset:
@@ -238,13 +255,14 @@ class ExcludedMap:
 
 @dataclass
 class _Piece:
-    """A component in the making: its excluded nodes (x, y, cell side), peak (b) and floor flag."""
+    """A component in the making: its excluded nodes (x, y, cell side), peak (b), floor and sliver flags."""
 
     x: np.ndarray
     y: np.ndarray
     cell: np.ndarray
     peak: float
     floor: bool
+    slivers: bool = False
 
     def joined(self, other: _Piece) -> _Piece:
         return _Piece(
@@ -253,6 +271,7 @@ class _Piece:
             np.concatenate([self.cell, other.cell]),
             max(self.peak, other.peak),
             self.floor or other.floor,
+            self.slivers or other.slivers,
         )
 
 
@@ -319,7 +338,9 @@ def _component(piece: _Piece) -> MapComponent:
         float((piece.y - half).min()),
         float((piece.y + half).max()),
     )
-    return MapComponent(float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor, piece.x, piece.y, piece.cell)
+    return MapComponent(
+        float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor, piece.x, piece.y, piece.cell, piece.slivers
+    )
 
 
 def _classify(ctx, x0, y0, h, evaluate, inherited):
@@ -440,6 +461,7 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
     """Label -> (piece of its nodes in ``keep``, or None; the coarser components it shares nodes with in
     ``coarse``, the cells the coarser window decided, as {component: nodes shared})."""
     local = {}
+    slivers = _enclosing_slivers(found.labels, dist > 0)  # dist > 0: the excluded nodes
     for k in range(1, found.count + 1):
         mine = found.labels == k
         owners = {}
@@ -457,9 +479,27 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
                 np.full(len(ix), h),
                 (peak - 0.5) * h,
                 (at_floor and peak < RESOLVED_PEAK) or bool((mine & stopped).any()),
+                k in slivers,
             )
         local[k] = (piece, owners)
     return local
+
+
+def _enclosing_slivers(labels, excluded):
+    """Labels of the components that enclose a cluster of nodes not in ``excluded`` no more than ``_SLIVER``
+    nodes from it on every side: allowed slivers seen only at the nodes that fell in them."""
+    out = set()
+    for k, box in enumerate(ndimage.find_objects(labels), start=1):
+        if box is None:
+            continue
+        enclosed = ndimage.binary_fill_holes(labels[box] == k) & ~excluded[box]
+        if not enclosed.any():
+            continue
+        clusters, count = ndimage.label(enclosed)
+        depth = ndimage.distance_transform_edt(enclosed)
+        if np.any(ndimage.maximum(depth, clusters, np.arange(1, count + 1)) <= _SLIVER):
+            out.add(k)
+    return out
 
 
 def _affordable(zone, zoom):
