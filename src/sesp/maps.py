@@ -110,7 +110,7 @@ from .orientations import ANGLE_GAP, SCREEN_SLACK
 from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
-from .topology import RESOLVED_PEAK, _renumber, components, distance_to_complement, opening_family
+from .topology import RESOLVED_PEAK, components, distance_to_complement, opening_family, renumbered
 
 __all__ = [
     "MapComponent",
@@ -454,7 +454,7 @@ def _waists(found, necks_above, h, excluded, dist):
         return found
     necks = np.array(kept, dtype=float).reshape(-1, 4)
     necks[:, 1:3] = merged[necks[:, 1:3].astype(np.int64)]
-    return _renumber(merged[found.labels], excluded, found.measure, dist, necks)
+    return renumbered(merged[found.labels], excluded, found.measure, dist, necks)
 
 
 def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):

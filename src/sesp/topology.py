@@ -209,14 +209,16 @@ def components(
     labels, _, necks = label_kernels.persistent_labels(
         dist, order, shape, bool(periodic), float(ratio), float(min_peak), float(neck), RESOLVED_PEAK, MAX_NECKS
     )
-    return _renumber(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape), necks)
+    return renumbered(labels.reshape(mask.shape), mask, measure, dist.reshape(mask.shape), necks)
 
 
 MAX_NECKS = 4096  # undecided necks listed at most, per call of :func:`components`
 
 
-def _renumber(labels, mask, measure, dist, necks) -> Components:
-    """Components numbered by decreasing size, with their inscribed radii."""
+def renumbered(labels, mask, measure, dist, necks) -> Components:
+    """Components of ``labels`` (0: none) numbered by decreasing size, with their inscribed radii (``dist``,
+    node spacings) and ``necks`` relabelled; ``mask`` is the set they are components of. Used to rebuild
+    :class:`Components` after joining some of them."""
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
     keep = np.flatnonzero(sizes > 0)
