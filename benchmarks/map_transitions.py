@@ -4,7 +4,11 @@ For each n: :func:`sesp.map_transitions` over Ψ (every ``--step`` degrees,
 each change bisected to ±0.005 rad), once on each base grid; prints the
 brackets side by side, whether they are identical, and the time of each
 search; saves each search as ``map_transitions_n{n}_base{b}.nc`` in
-``--out``.
+``--out``. A bracket is marked * where it is unresolved
+(``transition_unresolved``: a component at an end is seen only at the
+floor, encloses allowed slivers that may part it, or is thinner than the
+polylines depart from the curves), and the brackets not marked on either
+grid are compared too.
 
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
         [--floor 1e-7] [--out DIR] [--reuse]
@@ -110,8 +114,8 @@ def main():
             rows, ["n", f"change {b1}", f"bracket {b1} (deg)", "width", f"change {b2}", f"bracket {b2} (deg)", "width"]
         )
     verdict = "yes" if same_everywhere else "no"
-    print("\n* unresolved: a component at an end of the bracket is seen only at the floor, or is thinner than the")
-    print("  polylines depart from the curves (it may be theirs, not the curves')")
+    print("\n* unresolved: a component at an end of the bracket is seen only at the floor, encloses allowed slivers")
+    print("  that may part it, or is thinner than the polylines depart from the curves (ExcludedMap.limit)")
     print(f"all brackets identical on base grids {args.bases[0]} and {args.bases[1]}: {verdict}")
     print(f"brackets not marked * identical on both: {'yes' if same_resolved else 'no'}")
 
