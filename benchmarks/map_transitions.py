@@ -107,8 +107,9 @@ def main():
         same_everywhere &= same
         resolved = [[t for t, f in zip(found[base], flagged[base]) if not f] for base in args.bases]
         same_resolved &= resolved[0] == resolved[1]
-        rows.append((f"{n:g}", "identical" if same else "DIFFERENT", "", f"{seconds[args.bases[0]]:.0f} s", "", "",
-                     f"{seconds[args.bases[1]]:.0f} s"))  # fmt: skip
+        verdict = "identical" if same else "DIFFERENT"
+        rows.append((f"{n:g}", verdict, f"{len(resolved[0])} not *", f"{seconds[args.bases[0]]:.0f} s", "",
+                     f"{len(resolved[1])} not *", f"{seconds[args.bases[1]]:.0f} s"))  # fmt: skip
         b1, b2 = args.bases
         table(
             rows, ["n", f"change {b1}", f"bracket {b1} (deg)", "width", f"change {b2}", f"bracket {b2} (deg)", "width"]
