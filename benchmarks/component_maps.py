@@ -1,7 +1,7 @@
 """Adaptive maps of the excluded set (exact in φ), drawn with each component in its own colour.
 
 For each opening: the components (area, inscribed radius, bounding box,
-floor flag), the positions classified and the time, and a PNG of the map in
+what it may be an artefact of: ``ExcludedMap.limit``), the positions classified and the time, and a PNG of the map in
 ``benchmarks/figures/component_map_n{n}_{degrees}.png`` (the whole set, and
 beside it the neighbourhood of the particle's centre). As an independent
 look, the runs of x along the axis (y = 0) and 1e-4 b off it where the widest
@@ -50,7 +50,7 @@ def main():
         seconds = time.perf_counter() - t0
         for k, c in enumerate(found.components, start=1):
             box = ", ".join(f"{v:.4f}" for v in c.bbox)
-            rows.append((f"{degrees:g}", k, f"{c.area:.4g}", f"{c.inscribed_radius:.3g}", box, c.touches_floor))
+            rows.append((f"{degrees:g}", k, f"{c.area:.4g}", f"{c.inscribed_radius:.3g}", box, found.limit(c) or "-"))
         rows.append((f"{degrees:g}", f"{found.count} in all", found.positions, f"{seconds:.0f} s", "", ""))
         for y in (0.0, 1e-4):
             runs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in axis_runs(particle, y))
@@ -63,7 +63,7 @@ def main():
         fig.tight_layout()
         save_figure(fig, FIGURES / f"component_map_n{args.n:g}_{degrees:g}.png")
         plt.close(fig)
-    table(rows, ["opening deg", "component", "area b^2", "inscribed b", "bbox (b)", "at floor"])
+    table(rows, ["opening deg", "component", "area b^2", "inscribed b", "bbox (b)", "unresolved"])
 
 
 if __name__ == "__main__":
