@@ -232,7 +232,8 @@ class ExcludedMap:
         return "polylines" if component.inscribed_radius < self.departure else ""
 
     def dataset(self) -> xr.Dataset:
-        """Per-component area, inscribed radius, bounding box and floor flag, largest first."""
+        """Per-component area, inscribed radius, bounding box, floor flag and ``unresolved`` (:meth:`limit` is
+        not ""), largest first; the polylines' ``departure`` (b) among the attributes."""
         comps = self.components
         box = np.array([c.bbox for c in comps]).reshape(-1, 4)
         return xr.Dataset(
