@@ -527,9 +527,21 @@ _WRITING = None  # (folder, point hash) while this process holds a point's lock
 
 
 def _interrupted(signum, frame):
+    """SIGINT in a worker: an idle worker leaves at once; one computing a point raises, so that the point's
+    cleanup runs, and :func:`_point_in_worker` then leaves. Either way it leaves silently, never back in the
+    pool's loop, whose queue the stopping runner may close under it: the runner reports the interruption."""
     global _STOPPING
     _STOPPING = True
+    if _WRITING is None:
+        os._exit(130)
     raise KeyboardInterrupt
+
+
+def _point_in_worker(point: SweepPoint, folder: str) -> str | None:
+    try:
+        return run_point(point, folder)
+    except KeyboardInterrupt:  # what it was writing is removed, its lock released
+        os._exit(130)
 
 
 def _init_worker(threads: int, runner: int):
@@ -565,7 +577,7 @@ def _execute_local(todo, folder, workers, bar):
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
     pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads, os.getpid()))
     try:
-        for future in as_completed([pool.submit(run_point, p, str(folder)) for p in todo]):
+        for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in todo]):
             future.result()
             bar.update()
     except BaseException:  # Ctrl-C, or a failed point: stop now, not after every queued point
@@ -611,13 +623,14 @@ def remove_stale_temporaries(folder, points):
 
 
 def _stop_pool(pool, grace: float = 3.0):
-    """Cancel what has not started, interrupt the workers so they remove what they were writing, kill stragglers."""
+    """Interrupt the workers so they remove what they were writing and leave, cancel what has not started,
+    kill stragglers. The workers are told first: none is left reading a queue that the shutdown closes."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
     try:
         for process in processes:
             if process.is_alive():
                 os.kill(process.pid, signal.SIGINT)
+        pool.shutdown(wait=False, cancel_futures=True)
         deadline = time.monotonic() + grace
         for process in processes:
             process.join(max(0.0, deadline - time.monotonic()))
