@@ -16,7 +16,9 @@ grid are compared too.
 ``--reuse`` reads a search already saved in ``--out`` (same n and base)
 instead of running it again, with the time it took then; so the two base
 grids can be searched by two processes at once (``--bases 128 128`` and
-``--bases 97 97``) and the table printed afterwards.
+``--bases 97 97``) and the table printed afterwards. Each map is also saved
+as it is made, in ``--out/maps_n{n}_base{b}/``: a search stopped part way
+resumes from them when run again (its time is then that of the last run).
 """
 
 import argparse
@@ -88,6 +90,7 @@ def main():
                     base=base,
                     floor=args.floor,
                     progress=True,
+                    folder=args.out / f"maps_n{n:g}_base{base}",
                 )
                 result.attrs["seconds"] = time.perf_counter() - t0
                 result.to_netcdf(path)

@@ -1,16 +1,20 @@
 """Adaptive maps exact in φ: the widest window, the clearance certificate, components against exact sets."""
 
+import functools
 import json
 import math
 
 import numpy as np
 import pytest
+import xarray as xr
 from scipy import ndimage
 
-from sesp import Polyline, SeSP, allowed_orientations
+from sesp import Polyline, SeSP, allowed_orientations, maps
 from sesp.cli import main
+from sesp.dataset import SespFileError
+from sesp.io import load, save
 from sesp.kernels.orientations import widest_windows
-from sesp.maps import excluded_map, map_transitions, widest_window
+from sesp.maps import ExcludedMap, excluded_map, map_transitions, widest_window
 from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
 from sesp.pair import as_pair
 from sesp.topology import components
@@ -251,12 +255,20 @@ def test_a_neck_that_keeps_its_width_on_finer_cells_is_a_waist(coarse_share):
     assert joined.sizes.sum() == fine.sizes.sum()
 
 
-def test_transitions_on_maps_bracket_the_asp_end_at_pi():
+def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch):
     """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
     4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two
-    components, the lens with its exact area (π − Ψ) − sin Ψ."""
-    result = map_transitions(ASP90, (math.radians(170), math.radians(190)), step=math.radians(10), base=48,
-                             tolerance=math.radians(2.5), floor=1e-4)  # fmt: skip
+    components, the lens with its exact area (π − Ψ) − sin Ψ. Each map is saved as it is made: the same
+    search again reads them all and makes none, and gives the same result."""
+    search = functools.partial(map_transitions, ASP90, (math.radians(170), math.radians(190)), step=math.radians(10),
+                               base=48, tolerance=math.radians(2.5), floor=1e-4, folder=tmp_path)  # fmt: skip
+    result = search()
+    saved = sorted(tmp_path.glob("map_*.nc"))
+    assert len(saved) == result.sizes["opening"]
+    monkeypatch.setattr(maps, "excluded_map", lambda *args, **kwargs: pytest.fail("a saved map was made again"))
+    xr.testing.assert_identical(search(), result)
+    with pytest.raises(SespFileError, match="base_cells differ"):
+        functools.partial(search, base=64)()
     assert list(result["count"].sel(opening=[math.radians(190)]).values) == [0]
     assert result["count"].sel(opening=math.radians(170)).item() == 2
     lens = result["area"].sel(opening=math.radians(170)).values[1]
@@ -265,6 +277,20 @@ def test_transitions_on_maps_bracket_the_asp_end_at_pi():
     assert result.count_high.values[-1] == 0
     assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
     assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5
+
+
+def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):
+    found = excluded_map(ASP90, base=48)
+    path = save(found.dataset(), tmp_path / "asp90.nc")
+    back = ExcludedMap.from_dataset(load(path))
+    assert back.count == found.count == 2
+    for a, b in zip(back.components, found.components):
+        assert (a.area, a.inscribed_radius, a.bbox, a.touches_floor) == (b.area, b.inscribed_radius, b.bbox,
+                                                                          b.touches_floor)  # fmt: skip
+        assert back.limit(a) == found.limit(b)
+    assert (back.departure, back.floor, back.base_cells) == (found.departure, found.floor, 48)
+    assert main(["info", str(path)]) == 0
+    assert "2 components" in capsys.readouterr().out
 
 
 def test_cli_one_opening_as_json(capsys):

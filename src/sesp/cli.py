@@ -169,6 +169,14 @@ def _add_topology(sub):
     p.add_argument("--floor", type=float, default=1e-7, help="adaptive map: smallest cell, b (default 1e-7)")
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
     p.add_argument(
+        "--maps-folder",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="adaptive maps over a Ψ range: save each map in DIR as it is made; "
+        "the same command run again reads them and resumes",
+    )
+    p.add_argument(
         "--quantity",
         choices=("excluded", "allowed", "entangled"),
         default="excluded",
@@ -289,6 +297,7 @@ def _topology_on_maps(args) -> int:
         base=args.base,
         floor=args.floor,
         progress=not args.quiet,
+        folder=args.maps_folder,
     )
     print(json.dumps(_transitions_json(result)) if args.json else format_map_transitions(result, family))
     return 0

@@ -15,6 +15,8 @@ Kinds of dataset (attribute ``sesp_format``):
                        plus the point's record)
 ``sesp.sweep``         collected sweep: swept parameters as dimensions
 ``sesp.monte_carlo``   random placements and their A_ex estimate
+``sesp.map``           the excluded set's components on one adaptive map
+                       (``area``, ``inscribed_radius``, ... per ``component``)
 =====================  ======================================================
 
 Scans, summaries and points carry the attributes of the pair
@@ -72,6 +74,12 @@ REQUIRED = {
     "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
     "sesp.point": {"excluded_area": (("phi",), "f")},
     "sesp.sweep": {},
+    "sesp.map": {
+        "area": (("component",), "f"),
+        "inscribed_radius": (("component",), "f"),
+        "touches_floor": (("component",), "b"),
+        "encloses_slivers": (("component",), "b"),
+    },
 }
 FORMATS = tuple(REQUIRED)
 OPTIONAL = {
@@ -103,6 +111,7 @@ TITLES = {
     "sesp.point": "one parameter point of a sesp sweep",
     "sesp.sweep": "collected sesp sweep over particle parameters",
     "sesp.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
+    "sesp.map": "components of the excluded set of a particle pair on an adaptive map, exact in phi",
 }
 # Attributes that record when and how a file was made; they differ between otherwise identical results.
 PROVENANCE = ("history", "date_created")

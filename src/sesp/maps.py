@@ -99,12 +99,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 from scipy import ndimage
 
 from .checks import check_count, check_range
+from .dataset import SespFileError, base_attrs, format_of, pair_attrs
+from .io import load, save
 from .kernels.orientations import widest_windows
 from .orientations import ANGLE_GAP, SCREEN_SLACK
 from .pair import as_pair
@@ -216,6 +219,8 @@ class ExcludedMap:
     positions: int  # positions classified, over all levels
     finest: float  # b: the smallest cell side used
     departure: float = 0.0  # b: how far the polylines depart from the curves (:attr:`sesp.Pair.departure`)
+    zoom: int = ZOOM
+    pair: object = field(default=None, repr=False, compare=False)  # the Pair mapped (None: read from a file)
 
     @property
     def count(self) -> int:
@@ -232,26 +237,58 @@ class ExcludedMap:
         return "polylines" if component.inscribed_radius < self.departure else ""
 
     def dataset(self) -> xr.Dataset:
-        """Per-component area, inscribed radius, bounding box, floor flag and ``unresolved`` (:meth:`limit` is
-        not ""), largest first; the polylines' ``departure`` (b) among the attributes."""
+        """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor and sliver
+        flags and ``unresolved`` (:meth:`limit` is not ""), largest first; the map's resolution, the polylines'
+        ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes. The excluded
+        nodes are not kept: :meth:`from_dataset` gives the components without them."""
         comps = self.components
-        box = np.array([c.bbox for c in comps]).reshape(-1, 4)
+        box = np.array([c.bbox for c in comps], dtype=float).reshape(-1, 4)
+
+        def flags(name):
+            return "component", np.array([getattr(c, name) for c in comps], dtype=bool)
+
+        attrs = base_attrs("sesp.map") | ({} if self.pair is None else pair_attrs(self.pair))
+        attrs |= {name: getattr(self, name) for name in _MAP_ATTRS}
         return xr.Dataset(
             {
-                "area": ("component", [c.area for c in comps], {"units": "b^2"}),
-                "inscribed_radius": ("component", [c.inscribed_radius for c in comps], {"units": "b"}),
-                "touches_floor": ("component", np.array([c.touches_floor for c in comps], dtype=bool)),
+                "area": ("component", np.array([c.area for c in comps], dtype=float), {"units": "b^2"}),
+                "inscribed_radius": (
+                    "component", np.array([c.inscribed_radius for c in comps], dtype=float), {"units": "b"}
+                ),
+                "touches_floor": flags("touches_floor"),
+                "encloses_slivers": flags("encloses_slivers"),
                 "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
-                "bbox": (("component", "side"), box, {"units": "b"}),
+                "bbox": (("component", "side"), box, {"units": "b", "sides": "xmin xmax ymin ymax"}),
             },
-            coords={"component": np.arange(1, len(comps) + 1), "side": ["xmin", "xmax", "ymin", "ymax"]},
-            attrs={
-                "floor": self.floor,
-                "base_cells": self.base_cells,
-                "positions": self.positions,
-                "departure": self.departure,
-            },
-        )
+            coords={"component": np.arange(1, len(comps) + 1)},
+            attrs=attrs,
+        )  # fmt: skip
+
+    @classmethod
+    def from_dataset(cls, ds: xr.Dataset) -> ExcludedMap:
+        """The map a ``sesp.map`` dataset (:meth:`dataset`) holds, its components without their nodes."""
+        empty = np.empty(0)
+        comps = [
+            MapComponent(float(a), float(r), tuple(float(v) for v in box), bool(f), empty, empty, empty, bool(s))
+            for a, r, box, f, s in zip(
+                ds.area.values, ds.inscribed_radius.values, ds.bbox.values.reshape(-1, 4),
+                ds.touches_floor.values, ds.encloses_slivers.values,
+            )
+        ]  # fmt: skip
+        values = {name: ds.attrs[name] for name in _MAP_ATTRS}
+        return cls(comps, **{name: _MAP_ATTRS[name](v) for name, v in values.items()})
+
+
+# Attributes of a ``sesp.map`` dataset that rebuild its ExcludedMap, with their types.
+_MAP_ATTRS = {
+    "floor": float,
+    "base_cells": int,
+    "reach": float,
+    "positions": int,
+    "finest": float,
+    "departure": float,
+    "zoom": int,
+}
 
 
 @dataclass
@@ -328,7 +365,7 @@ def excluded_map(
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
     found = sorted((_component(p) for p, _ in pieces if p is not None), key=lambda c: -c.area)
-    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure)
+    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair)
 
 
 def _component(piece: _Piece) -> MapComponent:
@@ -679,6 +716,7 @@ def map_transitions(
     base: int = BASE_CELLS,
     floor: float = FLOOR,
     progress: bool = False,
+    folder=None,
 ) -> xr.Dataset:
     """Where the count of excluded components (:func:`excluded_map`) changes with the opening Ψ.
 
@@ -686,6 +724,11 @@ def map_transitions(
     bisects each step whose count changes until the bracket is at most
     ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°). ``progress``: a bar
     of the maps and, below it, one of the positions of the map being made.
+    ``folder``: where each map is saved as soon as it is made
+    (``map_<opening>.nc``, a ``sesp.map`` dataset); a map already there is
+    read instead of made again, so an interrupted search loses at most the
+    map it was making, and the same call resumes it. A map there of another
+    pair, base, floor or zoom is an error, not a silent mix.
 
     Returns
     -------
@@ -711,8 +754,13 @@ def map_transitions(
 
         def count(opening):
             if opening not in maps:
-                particle = make(opening)
-                maps[opening] = excluded_map(particle, segments=segments, base=base, floor=floor, progress=progress)
+                pair = as_pair(make(opening), None, segments)
+                path = None if folder is None else Path(folder) / f"map_{opening!r}.nc"
+                maps[opening] = _saved_map(path, pair, base, floor) if path and path.exists() else None
+                if maps[opening] is None:
+                    maps[opening] = excluded_map(pair, base=base, floor=floor, progress=progress)
+                    if path is not None:
+                        save(maps[opening].dataset(), path)
                 bar.update(1)
             return maps[opening].count
 
@@ -721,6 +769,26 @@ def map_transitions(
             brackets += _bisect(count, a, b, tolerance) if count(a) != count(b) else []
         count(openings[-1])
     return _transitions_dataset(maps, brackets, floor, base)
+
+
+def _saved_map(path, pair, base, floor) -> ExcludedMap:
+    """The map saved at ``path`` by a search of ``pair`` on ``base`` cells down to ``floor``."""
+    try:
+        ds = load(path)
+    except SespFileError as err:
+        raise SespFileError(f"{err}; remove it to make that map again") from None
+    expected = pair_attrs(pair) | {"base_cells": base, "floor": floor, "zoom": ZOOM}
+    differs = sorted(k for k, v in expected.items() if k not in ds.attrs or not _same(ds.attrs[k], v))
+    if format_of(ds) != "sesp.map" or differs:
+        raise SespFileError(
+            f"{path}: not a map of this search ({', '.join(differs) or 'not a sesp.map file'} differ): "
+            "give another folder, or remove the file"
+        )
+    return ExcludedMap.from_dataset(ds)
+
+
+def _same(saved, value) -> bool:
+    return bool(np.all(np.asarray(saved) == np.asarray(value)))
 
 
 def _bisect(count, low, high, tolerance):

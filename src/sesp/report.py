@@ -161,7 +161,7 @@ def _sweep_lines(ds) -> list:
 
 
 def describe(ds) -> str:
-    """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo)."""
+    """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo, map)."""
     attrs = ds.attrs
     kind = format_of(ds)
     lines = [f"{kind} file written by sesp {attrs.get('sesp_version')}"]
@@ -169,6 +169,13 @@ def describe(ds) -> str:
         lines += [_particle_line(attrs, p) for p in ("particle", "other")]
     if kind == "sesp.sweep":
         lines += _sweep_lines(ds)
+    elif kind == "sesp.map":
+        lines.append(
+            f"map      : base {attrs['base_cells']} cells, floor {attrs['floor']:g} b, zoom {attrs['zoom']},"
+            f" {attrs['positions']} positions"
+        )
+        areas = ", ".join(f"{a:.4g}" for a in ds.area.values)
+        lines.append(f"excluded : {ds.sizes['component']} components, areas {areas or '-'} b^2")
     elif kind == "sesp.monte_carlo":
         lines.append(f"samples  : {attrs['samples']}")
         lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")
