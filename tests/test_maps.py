@@ -310,6 +310,7 @@ def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, caps
                                                                           b.touches_floor)  # fmt: skip
         assert back.limit(a) == found.limit(b)
     assert (back.departure, back.floor, back.base_cells) == (found.departure, found.floor, 48)
+    assert back.pair.departure == found.departure and back.pair.particle == ASP90
     assert main(["info", str(path)]) == 0
     assert "2 components" in capsys.readouterr().out
 

@@ -109,7 +109,7 @@ import xarray as xr
 from scipy import ndimage
 
 from .checks import check_count, check_range
-from .dataset import SespFileError, base_attrs, format_of, pair_attrs
+from .dataset import SespFileError, base_attrs, format_of, pair_attrs, pair_of
 from .io import load, save
 from .kernels.orientations import widest_windows
 from .orientations import ANGLE_GAP, SCREEN_SLACK
@@ -269,7 +269,8 @@ class ExcludedMap:
 
     @classmethod
     def from_dataset(cls, ds: xr.Dataset) -> ExcludedMap:
-        """The map a ``sesp.map`` dataset (:meth:`dataset`) holds, its components without their nodes."""
+        """The map a ``sesp.map`` dataset (:meth:`dataset`) holds, its components without their nodes, its pair
+        rebuilt from the attributes when they describe one."""
         empty = np.empty(0)
         comps = [
             MapComponent(float(a), float(r), tuple(float(v) for v in box), bool(f), empty, empty, empty, bool(s))
@@ -278,8 +279,8 @@ class ExcludedMap:
                 ds.touches_floor.values, ds.encloses_slivers.values,
             )
         ]  # fmt: skip
-        values = {name: ds.attrs[name] for name in _MAP_ATTRS}
-        return cls(comps, **{name: _MAP_ATTRS[name](v) for name, v in values.items()})
+        values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items()}
+        return cls(comps, **values, pair=pair_of(ds) if "particle_kind" in ds.attrs else None)
 
 
 # Attributes of a ``sesp.map`` dataset that rebuild its ExcludedMap, with their types.
@@ -759,8 +760,9 @@ def map_transitions(
             if opening not in maps:
                 pair = as_pair(make(opening), None, segments)
                 path = None if folder is None else Path(folder) / f"map_{opening!r}.nc"
-                maps[opening] = _saved_map(path, pair, base, floor) if path and path.exists() else None
-                if maps[opening] is None:
+                if path is not None and path.exists():
+                    maps[opening] = _saved_map(path, pair, base, floor)
+                else:
                     maps[opening] = excluded_map(pair, base=base, floor=floor, progress=progress)
                     if path is not None:
                         save(maps[opening].dataset(), path)
