@@ -8,6 +8,12 @@ look, the runs of x along the axis (y = 0) and 1e-4 b off it where the widest
 window is 0, sampled every 1e-3 b over |x| <= 0.4 b.
 
     python benchmarks/component_maps.py [--n 4] [--openings 170 176 178] [--floor 1e-7] [--base 128]
+        [--maps-folder DIR]
+
+``--maps-folder``: each map is saved there and read back on the next run
+(``sesp.maps.stored_map``: the folder ``sesp topology --maps-folder`` and
+``map_transitions.py`` use), so the figures can be redrawn without mapping
+again; the time printed is then that of reading the map.
 """
 
 import argparse
@@ -18,7 +24,9 @@ from pathlib import Path
 import numpy as np
 from _common import machine, table
 
-from sesp import SeSP, excluded_map, widest_window
+from sesp import SeSP, widest_window
+from sesp.maps import stored_map
+from sesp.pair import as_pair
 from sesp.plot import component_map, save_figure
 
 FIGURES = Path(__file__).resolve().parent / "figures"
@@ -38,6 +46,7 @@ def main():
     parser.add_argument("--openings", type=float, nargs="+", default=[170, 176, 178])
     parser.add_argument("--floor", type=float, default=1e-7)
     parser.add_argument("--base", type=int, default=128)
+    parser.add_argument("--maps-folder", type=Path, default=None)
     args = parser.parse_args()
     import matplotlib.pyplot as plt
 
@@ -46,7 +55,8 @@ def main():
     for degrees in args.openings:
         particle = SeSP(n=args.n, opening=math.radians(degrees))
         t0 = time.perf_counter()
-        found = excluded_map(particle, base=args.base, floor=args.floor, progress=True)
+        pair = as_pair(particle)
+        found = stored_map(args.maps_folder, particle.opening, pair, base=args.base, floor=args.floor, progress=True)
         seconds = time.perf_counter() - t0
         for k, c in enumerate(found.components, start=1):
             box = ", ".join(f"{v:.4f}" for v in c.bbox)

@@ -325,6 +325,18 @@ def test_cli_one_opening_as_json(capsys):
     assert out["components"][0]["unresolved"] == "" and 0 < out["departure"] < 1e-4
 
 
+def test_cli_one_opening_keeps_its_map_in_the_maps_folder(tmp_path, capsys):
+    command = ["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]
+    assert main([*command, "--maps-folder", str(tmp_path)]) == 0
+    made = capsys.readouterr().out
+    (path,) = tmp_path.glob("map_*.nc")
+    assert ExcludedMap.from_dataset(load(path)).count == json.loads(made)["count"] == 2
+    assert main([*command, "--maps-folder", str(tmp_path)]) == 0
+    assert capsys.readouterr().out == made  # read back, the same components
+    assert main([*command[:-3], "--base", "64", "--quiet", "--maps-folder", str(tmp_path)]) == 2
+    assert "base_cells differ" in capsys.readouterr().err
+
+
 def test_map_arguments_are_checked():
     with pytest.raises(ValueError, match="base"):
         excluded_map(ASP90, base=4)
@@ -350,6 +362,24 @@ def test_component_map_draws_each_component_in_its_colour():
     plt.close(fig)
     for color in ((31, 119, 180), (255, 127, 14)):  # tab:blue (the body), tab:orange (the lens)
         assert (np.abs(image - color).sum(axis=-1) < 30).sum() > 200
+
+
+def test_component_map_legend_says_what_a_component_may_be_an_artefact_of():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from sesp.plot import component_map
+
+    polygon = excluded_map(SeSP(n=2, opening=math.radians(170)), segments=16, base=48, floor=1e-4)
+    labels = [t.get_text() for t in component_map(polygon).get_legend().get_texts()]
+    assert len(labels) == polygon.count
+    for label, comp in zip(labels, polygon.components):
+        assert label.endswith(f"unresolved: {polygon.limit(comp)}")
+    arc = [t.get_text() for t in component_map(excluded_map(ASP90, base=48)).get_legend().get_texts()]
+    assert len(arc) == 2 and not any("unresolved" in label for label in arc)
+    plt.close("all")
 
 
 def test_a_crescent_whose_ridge_dips_is_one_component():

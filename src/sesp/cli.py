@@ -173,8 +173,8 @@ def _add_topology(sub):
         type=Path,
         default=None,
         metavar="DIR",
-        help="adaptive maps over a Ψ range: save each map in DIR as it is made; "
-        "the same command run again reads them and resumes",
+        help="adaptive maps: save each map in DIR as it is made; the same command run again reads "
+        "them (a Ψ range resumes where it stopped)",
     )
     p.add_argument(
         "--quantity",
@@ -261,7 +261,8 @@ def _topology_on_maps(args) -> int:
     """``sesp topology --opening / --map / --json``: components of the excluded set on adaptive maps."""
     import json
 
-    from .maps import excluded_map, map_transitions
+    from .maps import map_transitions, stored_map
+    from .pair import as_pair
     from .report import format_map, format_map_transitions
 
     if args.quantity != "excluded":
@@ -273,9 +274,9 @@ def _topology_on_maps(args) -> int:
     _announce_compile()
     if args.opening is not None:
         particle = _shape_from_args(args, args.opening)
-        found = excluded_map(
-            particle, segments=args.segments, base=args.base, floor=args.floor, progress=not args.quiet
-        )
+        pair = as_pair(particle, None, args.segments)
+        opening = math.radians(args.opening)
+        found = stored_map(args.maps_folder, opening, pair, base=args.base, floor=args.floor, progress=not args.quiet)
         if args.json:
             print(json.dumps(_map_json(found, args.opening)))
         else:

@@ -759,13 +759,7 @@ def map_transitions(
         def count(opening):
             if opening not in maps:
                 pair = as_pair(make(opening), None, segments)
-                path = None if folder is None else Path(folder) / f"map_{opening!r}.nc"
-                if path is not None and path.exists():
-                    maps[opening] = _saved_map(path, pair, base, floor)
-                else:
-                    maps[opening] = excluded_map(pair, base=base, floor=floor, progress=progress)
-                    if path is not None:
-                        save(maps[opening].dataset(), path)
+                maps[opening] = stored_map(folder, opening, pair, base=base, floor=floor, progress=progress)
                 bar.update(1)
             return maps[opening].count
 
@@ -774,6 +768,26 @@ def map_transitions(
             brackets += _bisect(count, a, b, tolerance) if count(a) != count(b) else []
         count(openings[-1])
     return _transitions_dataset(maps, brackets, floor, base)
+
+
+def stored_map(folder, opening, pair, *, base=BASE_CELLS, floor=FLOOR, progress=False) -> ExcludedMap:
+    """The map of ``pair`` (of opening Ψ = ``opening``, radians) kept in ``folder``.
+
+    Reads ``folder/map_<opening>.nc`` (a ``sesp.map`` dataset) if it is there;
+    otherwise makes the map (:func:`excluded_map`) and saves it there first.
+    A file there of another pair, base, floor or zoom is an error, not a
+    silent mix. ``folder=None``: the map is made and not saved. The same
+    folder serves :func:`map_transitions`, ``sesp topology --maps-folder``
+    and ``benchmarks/component_maps.py``, so a map made by one is read by the
+    others.
+    """
+    path = None if folder is None else Path(folder) / f"map_{float(opening)!r}.nc"
+    if path is not None and path.exists():
+        return _saved_map(path, pair, base, floor)
+    found = excluded_map(pair, base=base, floor=floor, progress=progress)
+    if path is not None:
+        save(found.dataset(), path)
+    return found
 
 
 def _saved_map(path, pair, base, floor) -> ExcludedMap:

@@ -519,7 +519,8 @@ def component_map(found, *, ax=None, particle=None, window=None):
 
     Each excluded node is drawn as its cell (cells of every refinement level),
     outlined in its colour so that cells narrower than a pixel stay visible;
-    the legend gives each component's area and inscribed radius. ``window``
+    the legend gives each component's area, inscribed radius and what it may
+    be an artefact of (:meth:`~sesp.maps.ExcludedMap.limit`). ``window``
     (xmin, xmax, ymin, ymax; b) defaults to the components' bounding box,
     padded. ``particle`` draws the fixed particle in grey for scale.
     """
@@ -533,8 +534,9 @@ def component_map(found, *, ax=None, particle=None, window=None):
         cells = [Rectangle((x - c / 2, y - c / 2), c, c) for x, y, c in zip(comp.x, comp.y, comp.cell)]
         # an edge of its own colour keeps cells narrower than a pixel (thin strips at the floor) in sight
         ax.add_collection(PatchCollection(cells, facecolor=color, edgecolor=color, linewidth=0.6))
-        floor = ", at the floor" if comp.touches_floor else ""
-        label = f"{k}: area {comp.area:.3g} b$^2$, inscribed {comp.inscribed_radius:.2g} b{floor}"
+        limit = found.limit(comp)
+        limit = f", unresolved: {limit}" if limit else ""
+        label = f"{k}: area {comp.area:.3g} b$^2$, inscribed {comp.inscribed_radius:.2g} b{limit}"
         handles.append(Patch(color=color, label=label))
     if particle is not None:
         draw_particle(particle, ax, color="0.6", arrow=False, lw=1.0)
