@@ -226,6 +226,50 @@ def test_components_report_undecided_necks_only_when_asked():
     assert 8 <= found.necks[0, 3] <= 10
 
 
+def _arrowhead():
+    """Two wings (disks of radius 30 nodes) each joined to a tip (radius 18) by a bar 12 nodes in half-width:
+    narrow for the wings (12 < 0.5 · 30), undecided for the tip (0.5 · 18 <= 12 < 0.8 · 18)."""
+    y, x = np.mgrid[:180, :130]
+
+    def bar(ax, ay, bx, by, half):
+        t = np.clip(((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / ((bx - ax) ** 2 + (by - ay) ** 2), 0, 1)
+        return (x - ax - t * (bx - ax)) ** 2 + (y - ay - t * (by - ay)) ** 2 <= half * half
+
+    mask = ((x - 40) ** 2 + (y - 40) ** 2 <= 30**2) | ((x - 40) ** 2 + (y - 140) ** 2 <= 30**2)
+    mask |= ((x - 95) ** 2 + (y - 90) ** 2 <= 18**2) | bar(95, 90, 40, 40, 12) | bar(95, 90, 40, 140, 12)
+    return mask
+
+
+def test_a_body_that_reaches_a_part_at_a_smaller_body_is_judged_against_that_body():
+    """The second wing meets the part made of the first wing and the tip at the tip: its neck is judged
+    against the tip (undecided, like the first wing's), not against the first wing (narrow: apart). So the
+    mirror-symmetric arrowhead has two mirror necks, and the wings are not cut from each other."""
+    found = components(_arrowhead(), neck=0.8)
+    assert found.count == 3
+    tip = int(np.argmin(found.peaks)) + 1
+    pairs = sorted(tuple(sorted(int(k) for k in row[1:3])) for row in found.necks)
+    assert pairs == sorted(tuple(sorted((wing, tip))) for wing in {1, 2, 3} - {tip})
+    assert found.necks[0, 3] == found.necks[1, 3]
+
+
+@pytest.mark.parametrize("base", [97, 128])
+def test_the_n4_arrowhead_at_172_5_degrees_is_one_body_on_even_and_odd_base_grids(base):
+    """n = 4, Ψ = 172.5°: two wings meet at a tip on the axis. A brute-force exact-in-φ raster (cells of
+    0.004 b, four-connected) finds one body; so must the map, on either base grid (it cut a wing or the tip
+    off while a third body met a part at a kept body and was judged against the part's largest)."""
+    particle = SeSP(n=4, opening=math.radians(172.5))
+    found = excluded_map(particle, base=base, floor=1e-3)
+    assert found.count == 1
+    xmin, xmax, ymin, ymax = found.components[0].bbox
+    assert ymin < -0.2 and ymax > 0.2 and xmax > -0.41  # both wings and the tip
+    x, y = np.arange(-0.72, -0.38, 0.004), np.arange(-0.25, 0.25, 0.004)
+    width, _ = widest_window(particle, *np.meshgrid(x, y))
+    pieces, count = ndimage.label(width == 0)
+    sizes = np.bincount(pieces.ravel())[1:]
+    assert count == 1 or np.sort(sizes)[-2] < 0.01 * sizes.max()  # one body (and at most specks)
+    assert found.components[0].area == pytest.approx(sizes.max() * 0.004**2, rel=0.05)
+
+
 def _dumbbell(h):
     """Two disks of radius 1 b about x = ±2 b joined by a bar 1.3 b wide, on nodes spaced h b: (mask, x, y)."""
     y, x = np.mgrid[-1.5:1.5:h, -3.5:3.5:h]

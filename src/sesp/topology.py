@@ -15,7 +15,11 @@ superlevel-set components of d, grown from their peaks; when two meet at a
 node of value s (the width of the neck between them), the one with the
 lower peak p (its inscribed radius) stays a component of its own if
 s < ``ratio`` · p, and merges otherwise. Components whose peak is below
-``min_peak`` are noise and are not counted. Consequences:
+``min_peak`` are noise and are not counted. The two judged are the bodies
+the node touches: where a connected part already holds bodies kept apart
+(two wings and the tip they meet at), a body that reaches it at the tip is
+judged against the tip, not against the part's largest body; where a node
+touches several, the verdict that joins most wins. Consequences:
 
 * a pinch (s ≈ h, p ≫ h) separates two bodies, and ever more surely as h
   shrinks, whatever the grid's parity;

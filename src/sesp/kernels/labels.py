@@ -48,6 +48,13 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
     absorbed (a bump or a fragment). Writes each node's final component
     number (1, 2, ...; 0: in none) to ``labels`` and returns the count.
 
+    The components judged are those the node touches, not the largest of
+    each connected part: where a part already holds bodies kept apart (two
+    wings and the tip they meet at), a body that reaches it at the tip is
+    judged against the tip. Where the node touches several of a part's
+    bodies, the widest verdict wins (absorbed, then undecided, then apart),
+    so the result does not depend on the order the neighbours are visited.
+
     Undecided necks: where the lower peak is at least ``resolved`` and
     ratio · p <= s < neck · p, the neck is narrower than the smaller body but
     wide enough to join them at this resolution; the two are kept apart and
@@ -56,19 +63,20 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
     Returns (count, number of necks found).
     """
     n = dist.shape[0]
-    parent = np.arange(n)
+    parent = np.arange(n)  # union-find over connected parts (their roots: the parts' highest peaks)
     peak = np.zeros(n)
-    merged_into = np.full(n, -1)  # root absorbed into another root (not compressed)
-    kept = np.zeros(n, dtype=np.bool_)  # root that survived a merge as its own component
-    owner = np.full(n, -1)  # root a node joined when it was added
+    merged_into = np.full(n, -1)  # body absorbed into another body (not compressed)
+    kept = np.zeros(n, dtype=np.bool_)  # body that survived a meeting as its own component
+    owner = np.full(n, -1)  # body a node joined when it was added
     added = np.zeros(n, dtype=np.bool_)
     neck_node = np.empty(necks.shape[0], dtype=np.int64)
     neck_a = np.empty(necks.shape[0], dtype=np.int64)
     neck_b = np.empty(necks.shape[0], dtype=np.int64)
+    touched = np.empty(27, dtype=np.int64)  # neighbours already added
     found = 0
     for node in order:
         added[node] = True
-        best = -1
+        m = 0
         steepest = -1  # the added neighbour of largest distance: the node takes its component (steepest ascent)
         for k in range(27):
             nb = _neighbour(node, k, shape[0], shape[1], shape[2], periodic)
@@ -76,28 +84,34 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
                 continue
             if steepest < 0 or dist[nb] > dist[steepest]:
                 steepest = nb
-            r = _find(parent, nb)
-            if best < 0:
-                best = r
-            elif r != best:
-                hi, lo = (best, r) if peak[best] >= peak[r] else (r, best)
-                if dist[node] < ratio * peak[lo] and peak[lo] >= min_peak:
-                    kept[lo] = True
-                elif dist[node] < neck * peak[lo] and peak[lo] >= resolved:
-                    kept[lo] = True
+            touched[m] = nb
+            m += 1
+        if m == 0:
+            peak[node] = dist[node]
+            owner[node] = node
+            continue
+        for i in range(1, m):
+            best = _find(parent, touched[0])
+            r = _find(parent, touched[i])
+            if r == best:
+                continue
+            verdict, hi, lo = _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, dist[node],
+                                       ratio, min_peak, neck, resolved)  # fmt: skip
+            if verdict == 2:
+                merged_into[lo] = hi
+                kept[lo] = False
+            else:
+                kept[lo] = True
+                if verdict == 1:
                     if found < neck_node.shape[0]:
                         neck_node[found], neck_a[found], neck_b[found] = node, hi, lo
                     found += 1
-                else:
-                    merged_into[lo] = hi
-                parent[lo] = hi
-                best = hi
-        if best < 0:
-            peak[node] = dist[node]
-            owner[node] = node
-        else:
-            parent[node] = best
-            owner[node] = owner[steepest]
+            top, low = (best, r) if peak[best] >= peak[r] else (r, best)
+            if merged_into[low] < 0:
+                kept[low] = True  # the lower part's own body stays what it was: apart from those it met
+            parent[low] = top
+        parent[node] = _find(parent, touched[0])
+        owner[node] = owner[steepest]
     # final roots with a high enough peak are components too
     for i in range(n):
         if added[i] and parent[i] == i and peak[i] >= min_peak:
@@ -116,6 +130,41 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
         necks[k, 2] = _number_of(neck_b[k], kept, merged_into, number)
         necks[k, 3] = dist[neck_node[k]]
     return count, found
+
+
+@njit(**JIT)
+def _body(root, kept, merged_into):
+    """The body a birth node's nodes belong to now: itself, or the body it was absorbed into."""
+    while not kept[root] and merged_into[root] >= 0:
+        root = merged_into[root]
+    return root
+
+
+@njit(**JIT)
+def _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, s, ratio, min_peak, neck, resolved):
+    """(verdict, higher body, lower body) where a node of value s joins the parts rooted at ``best`` and
+    ``r``: over each pair of bodies it touches, one in each part, 2 (absorb the lower), 1 (undecided neck)
+    or 0 (apart), the widest verdict and its pair."""
+    verdict, hi, lo = -1, -1, -1
+    for i in range(m):
+        if _find(parent, touched[i]) != best:
+            continue
+        a = _body(owner[touched[i]], kept, merged_into)
+        for j in range(m):
+            if _find(parent, touched[j]) != r:
+                continue
+            b = _body(owner[touched[j]], kept, merged_into)
+            up, down = (a, b) if peak[a] >= peak[b] else (b, a)
+            p = peak[down]
+            if s < ratio * p and p >= min_peak:
+                v = 0
+            elif s < neck * p and p >= resolved:
+                v = 1
+            else:
+                v = 2
+            if v > verdict:
+                verdict, hi, lo = v, up, down
+    return verdict, hi, lo
 
 
 @njit(**JIT)
