@@ -65,7 +65,8 @@ body at Ψ = 170° on a base of 64 cells, which the floor otherwise split in
 two). At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
-ASP's split as Ψ → 0⁺, its body and lens near π) is never decided.
+ASP's split as Ψ → 0⁺, its body and lens near π) is never decided. Both
+bodies are then marked ``touches_floor``: the split is the floor's.
 
 Refinement
 ----------
@@ -91,10 +92,14 @@ inscribed radius) can be missed: that is the maps' blind spot.
 The finer window evaluates only the refined cells (and one cell around
 them); each component it finds belongs to the coarser one it shares most
 nodes with outside the refined cells, or is new. It joins the other coarser
-components it shares nodes with, unless the rule split the two on the
-coarser window at a neck it decided, or another component of the finer
+components it shares nodes with, unless another component of the finer
 window belongs to that one (the finer window split them too: the line
-between two touching bodies falls a node or two apart on the two windows). Refinement stops when the
+between two touching bodies falls a node or two apart on the two windows),
+or the rule split the two on the coarser window at a neck it decided and
+the piece holds only a sliver of the other (less than ``_SHARED``, a
+quarter, of what it holds of its own). A piece that holds much of both saw
+them as one body on finer cells: the n = 4 arrowhead at Ψ = 173.75°, whose
+wings were split where they were 4 nodes thick. Refinement stops when the
 next cells would be smaller than ``floor``.
 """
 
@@ -144,6 +149,7 @@ UNDECIDED = 0.8
 # An undecided neck that keeps at least this share of its width (b) when the cells shrink ``zoom`` times is a
 # waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
 WAIST = 0.6
+_SHARED = 0.25  # of its main component's nodes: a finer piece holding this much of another joins it
 _SLIVER = 2.0  # nodes: an allowed cluster enclosed by a component and no deeper than this is a sliver's trace
 
 
@@ -181,6 +187,8 @@ class MapComponent:
     touches_floor : bool
         It was seen thinner than ``RESOLVED_PEAK`` nodes on cells that could
         not be refined further (the floor): it may be thinner than the floor.
+        Or it was kept apart from another at a neck still undecided at the
+        floor: it may be joined to it.
     x, y, cell : ndarray
         Its excluded nodes (b) and their cell sides (b), for plotting.
     encloses_slivers : bool
@@ -230,7 +238,8 @@ class ExcludedMap:
         return len(self.components)
 
     def limit(self, component: MapComponent) -> str:
-        """What a component may be an artefact of: "floor" (seen only at the floor), "slivers" (it encloses
+        """What a component may be an artefact of: "floor" (seen only at the floor, or kept apart at a neck
+        still undecided there), "slivers" (it encloses
         allowed slivers seen at isolated nodes, which may part it), "polylines" (thinner than the polylines
         depart from the curves: it may be theirs, not the curves'), or "" (resolved)."""
         if component.touches_floor:
@@ -504,6 +513,7 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
     ``coarse``, the cells the coarser window decided, as {component: nodes shared})."""
     local = {}
     slivers = _enclosing_slivers(found.labels, dist > 0)  # dist > 0: the excluded nodes
+    undecided = {int(k) for row in found.necks for k in row[1:3]} if at_floor else set()
     for k in range(1, found.count + 1):
         mine = found.labels == k
         owners = {}
@@ -520,7 +530,7 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
                 y0 + (iy + 0.5) * h,
                 np.full(len(ix), h),
                 (peak - 0.5) * h,
-                (at_floor and peak < RESOLVED_PEAK) or bool((mine & stopped).any()),
+                (at_floor and (peak < RESOLVED_PEAK or k in undecided)) or bool((mine & stopped).any()),
                 k in slivers,
             )
         local[k] = (piece, owners)
@@ -613,7 +623,7 @@ def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth, neck_widt
                     new.append((piece, {}))
                 continue
             for k in shared:  # a finer piece that joins two coarse ones: they are one
-                if k not in mains and root(k) != root(main) and (min(k, main), max(k, main)) not in apart:
+                if k not in mains and root(k) != root(main) and _joins(shared, k, main, apart):
                     parent[root(k)] = root(main)
             pieces[main] = _join(pieces[main], piece)
     groups = {}
@@ -622,6 +632,15 @@ def _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth, neck_widt
         piece, above = groups.get(r, (None, {}))
         groups[r] = (_join(piece, pieces[k]), _summed(above, owners))
     return [g for g in groups.values() if g[0] is not None or g[1]] + new
+
+
+def _joins(shared, k, main, apart):
+    """Whether a finer piece whose main coarser component is ``main`` joins ``k``, another it shares nodes
+    with: unless the coarser window decided the two apart and the piece holds only a sliver of ``k`` (less
+    than ``_SHARED`` of what it holds of ``main``: the line between them shifted by a node or two). A piece
+    that holds much of both saw them as one body, on cells finer than those that split them (the n = 4
+    arrowhead at Ψ = 173.75°, whose wings were split on cells where they were 4 nodes thick)."""
+    return (min(k, main), max(k, main)) not in apart or shared[k] >= _SHARED * shared[main]
 
 
 def _main_owner(shared):
