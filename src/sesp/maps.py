@@ -239,9 +239,9 @@ class ExcludedMap:
 
     def limit(self, component: MapComponent) -> str:
         """What a component may be an artefact of: "floor" (seen only at the floor, or kept apart at a neck
-        still undecided there), "slivers" (it encloses
-        allowed slivers seen at isolated nodes, which may part it), "polylines" (thinner than the polylines
-        depart from the curves: it may be theirs, not the curves'), or "" (resolved)."""
+        still undecided there), "slivers" (it encloses allowed slivers seen at isolated nodes, which may part
+        it), "polylines" (thinner than the polylines depart from the curves: it may be theirs, not the
+        curves'), or "" (resolved)."""
         if component.touches_floor:
             return "floor"
         if component.encloses_slivers:
