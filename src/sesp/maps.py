@@ -81,14 +81,17 @@ box of each cluster of such nodes) where its count is not settled:
 Nodes near thick parts are settled: their cell's boundary is resolved by the
 thick part's own count. The nodes of such clusters within a few cells of a
 body (a tip, the rim, a pinch, a thin component beside it) are refined until
-the cells are ``_TAPER`` (64) times smaller than the body's inscribed
+the cells are ``_TAPER`` (256) times smaller than the body's inscribed
 radius, and then left: a tip or a pinch looks the same at every scale. The
 rest of such a cluster, running on away from the body, is refined on: it
 may hold a thin component (for n = 8 at Ψ = 175°, an island 3e-4 b thick
 and 0.48 b long on the axis, behind the body's tail and the pinch at the
 centre). So a thin component lying wholly within a few cells of a body and
-thinner than a couple of those finest cells (each 1/64 of the body's
-inscribed radius) can be missed: that is the maps' blind spot.
+thinner than a couple of those finest cells (each 1/256 of the body's
+inscribed radius) can be missed: that is the maps' blind spot. At 1/64 it
+hid the n = 4 arrowhead's tip at Ψ = 174.6875° (3.4e-4 b deep, at the end
+of the horns of crescents 0.035 b deep) on a base of 128 cells; 1/256
+finds it on 128 and 97 cells and costs about a fifth more positions.
 The finer window evaluates only the refined cells (and one cell around
 them); each component it finds belongs to the coarser one it shares most
 nodes with outside the refined cells, or is new. It joins the other coarser
@@ -139,7 +142,7 @@ BASE_CELLS = 128  # cells along x and y of the first window, over the pair's rea
 ZOOM = 4  # each refinement divides the cell side by this
 _PAD = 2  # cells around a refined cluster included in its finer window
 _SETTLED = 2 * RESOLVED_PEAK  # nodes from a thick excluded node within which the count is settled
-_TAPER = 64.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
+_TAPER = 256.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
 _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
 # Necks s below this times the smaller body's inscribed radius p (and above the rule's ratio · p) are looked at
