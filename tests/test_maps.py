@@ -259,26 +259,57 @@ def test_the_n4_arrowhead_is_one_body_on_even_and_odd_base_grids(base, degrees, 
     (cells of 0.004 b, four-connected) finds one body; so must the map, on either base grid. At 172.5° it cut
     a wing or the tip off while a third body met a part at a kept body and was judged against the part's
     largest; at 173.75° a finer window saw the wings as one, but the coarser one had split them, 4 nodes
-    thick, at a neck it decided."""
+    thick, at a neck it decided. (At the finer floor the map may also find the thin island and tail on the
+    axis right of the arrowhead: they are not part of this test.)"""
     particle = SeSP(n=4, opening=math.radians(degrees))
     found = excluded_map(particle, base=base, floor=floor)
-    assert found.count == 1
+    arrowhead = [c for c in found.components if c.bbox[0] < -0.38]
+    assert len(arrowhead) == 1
+    assert all(c.bbox[0] > -0.3 and max(-c.bbox[2], c.bbox[3]) < 0.01 for c in found.components[1:])
     x, y = np.arange(-0.72, -0.38, 0.004), np.arange(-0.25, 0.25, 0.004)
     width, _ = widest_window(particle, *np.meshgrid(x, y))
     pieces, count = ndimage.label(width == 0)
     sizes = np.bincount(pieces.ravel())[1:]
     assert count == 1 or np.sort(sizes)[-2] < 0.01 * sizes.max()  # one body (and at most specks)
-    assert found.components[0].area == pytest.approx(sizes.max() * 0.004**2, rel=0.05)
+    assert arrowhead[0].area == pytest.approx(sizes.max() * 0.004**2, rel=0.05)
     iy, ix = np.nonzero(pieces == np.argmax(sizes) + 1)
     raster_box = (x[ix].min(), x[ix].max(), y[iy].min(), y[iy].max())
-    assert found.components[0].bbox == pytest.approx(raster_box, abs=0.01)  # both wings and the tip
+    assert arrowhead[0].bbox == pytest.approx(raster_box, abs=0.01)  # both wings and the tip
+
+
+@pytest.mark.parametrize("base", [97, 128])
+def test_an_allowed_wedge_a_node_fell_in_stays_open_on_finer_windows(base):
+    """n = 8, Ψ = 5°: the lens (right of the centre) and the body meet only at the particle's centre; between
+    them an allowed wedge runs up from the centre along x ≈ 0, 1.2e-3 b wide at y = 0.1 b (brute force below:
+    allowed in it, excluded on either side). The 97-cell base grid has a column of nodes in it; the finer
+    windows nest (odd zoom), so those allowed nodes stay and the pinch at the centre parts the two. With a zoom
+    of 4 the finer nodes straddled the column, closed the wedge, and the 97-cell map found one body. The lens
+    reaches the wedge: a brute-force raster (cells of 0.005 b) finds W = 0 from x = 0.005 to 0.4 b on every row
+    below y = 0.25 b. (The 128-cell grid has no node in the wedge: its map counts 2 as well, but it parts the
+    lens at its waist, x = 0.25 b, and gives the part left of the waist to the body.)"""
+    particle = SeSP(n=8, opening=math.radians(5))
+    width, _ = widest_window(particle, np.array([-0.002, 0.0003, 0.003]), np.full(3, 0.1))
+    assert width[0] == 0 and width[1] > 0 and width[2] == 0
+    found = excluded_map(particle, base=base, floor=3e-3)
+    assert found.count == 2
+    lens = found.components[1]
+    assert lens.bbox[1] < 2.0 and lens.bbox[3] == pytest.approx(-lens.bbox[2], abs=0.05)
+    if base == 97:
+        assert 0 < lens.bbox[0] < 0.01
+
+
+@pytest.mark.parametrize("zoom", [2, 4, 17])
+def test_the_zoom_must_be_odd_and_at_most_15(zoom):
+    with pytest.raises(ValueError, match="zoom"):
+        excluded_map(SeSP(n=2, opening=1.0), zoom=zoom, floor=1e-2)
 
 
 def test_bodies_kept_apart_at_a_neck_undecided_at_the_floor_are_marked():
-    """At a floor of 1e-3 b the n = 4 arrowhead at Ψ = 173.75° is seen as two wings and a tip, kept apart at
-    necks the floor stops the look at (refined, they join: the test above): each is marked ``floor``."""
+    """At a floor of 1e-3 b the n = 4 arrowhead at Ψ = 173.75° is seen in pieces (two wings, the tip apart or
+    with one of them), kept apart at necks the floor stops the look at (refined, they join: the test above):
+    each is marked ``floor``."""
     found = excluded_map(SeSP(n=4, opening=math.radians(173.75)), base=97, floor=1e-3)
-    assert found.count == 3
+    assert found.count >= 2
     assert all(found.limit(c) == "floor" for c in found.components)
 
 
