@@ -304,6 +304,20 @@ def test_the_zoom_must_be_odd_and_at_most_15(zoom):
         excluded_map(SeSP(n=2, opening=1.0), zoom=zoom, floor=1e-2)
 
 
+def test_a_strip_of_uncertain_cells_that_starts_beside_a_body_is_refined_along_its_length():
+    """n = 8, Ψ = 155°: the island on the axis right of the centre, 0.01 b thick (brute force below), lies
+    between the two node rows of an even base grid, whose nodes beside it are uncertain. That strip of
+    uncertain nodes starts beside the body's tail; on the first finer window it touched the tail's excluded
+    nodes, and the whole strip was left as the body's rim: the 128-cell map missed the island."""
+    particle = SeSP(n=8, opening=math.radians(155))
+    width, _ = widest_window(particle, np.array([0.1, 0.4, 0.7, 0.1, 0.4, 0.7]), np.repeat([0.0, 0.006], 3))
+    assert np.all(width[:3] == 0) and np.all(width[3:] > 0)
+    found = excluded_map(particle, base=128, floor=1e-3)
+    assert found.count == 2
+    island = found.components[1]
+    assert island.bbox[0] < 0.1 and island.bbox[1] > 0.7 and max(-island.bbox[2], island.bbox[3]) < 0.01
+
+
 def test_bodies_kept_apart_at_a_neck_undecided_at_the_floor_are_marked():
     """At a floor of 1e-3 b the n = 4 arrowhead at Ψ = 173.75° is seen in pieces (two wings, the tip apart or
     with one of them), kept apart at necks the floor stops the look at (refined, they join: the test above):

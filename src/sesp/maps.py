@@ -683,10 +683,12 @@ def _decided_apart(labels, necks):
 
 def _unsettled(excluded, uncertain, settled):
     """Nodes whose count is not settled: thin excluded parts with the uncertain nodes next to them, and
-    clusters of uncertain nodes away from thick parts that touch no excluded node (they might hold a thin
-    component). The width of the window says nothing here: next to the ASP's lens, whose rim is where an
-    end point lies on the other arc for a whole interval of φ, the window jumps from 0 to wide. Clusters
-    beside thick parts are left to :func:`_untapered`."""
+    clusters of uncertain nodes away from thick parts (they might hold a thin component). The width of the
+    window says nothing here: next to the ASP's lens, whose rim is where an end point lies on the other arc
+    for a whole interval of φ, the window jumps from 0 to wide. Of a cluster that touches an excluded node,
+    the nodes within ``_SETTLED + 2`` nodes of excluded ones are left (a body's rim, to :func:`_untapered`);
+    the farther ones are kept: a strip of uncertain nodes that starts beside a body may hold a thin
+    component (n = 8 at Ψ = 155°: the island on the axis, between the node rows of an even grid)."""
     ring = np.ones((3, 3), dtype=bool)
     thin = excluded & ~settled
     near_thin = ndimage.binary_dilation(thin, ring) & (excluded | uncertain) if thin.any() else thin
@@ -694,7 +696,8 @@ def _unsettled(excluded, uncertain, settled):
     clusters, count = ndimage.label(alone, ring)
     if count:
         touching = np.unique(clusters[ndimage.binary_dilation(excluded, ring) & alone])
-        alone &= ~np.isin(clusters, touching[touching > 0])
+        beside = ndimage.distance_transform_edt(~excluded) <= _SETTLED + 2
+        alone &= ~(np.isin(clusters, touching[touching > 0]) & beside)
     return near_thin | alone
 
 
