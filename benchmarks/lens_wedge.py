@@ -7,8 +7,16 @@ opening's half-height sin(Ψ/2)^(2/m): the position (0, y) is then allowed.
 Around x = 0 this makes an allowed wedge that runs up from the particle's
 centre (excluded) between the lens, right of it, and the body, left of it.
 It is the only thing that parts the two for small Ψ (n = 8: 1e-3 b wide
-0.1 b up at Ψ = 5°), so the lens is a component of its own for every Ψ > 0,
-however thin the wedge.
+0.1 b up at Ψ = 5°), so for the curve the lens is a component of its own for
+every Ψ > 0, however thin the wedge.
+
+The particles sesp computes are 256-segment polygons, and a polygon turned
+by π is not the same polygon mirrored (its nodes fall elsewhere on the
+curve): near y = 0 the two cross more than twice and the wedge stops short
+of the axis. ``--neck`` prints how far short: the least height of the wedge's
+foot over x from -0.3 to 0.3 b (bisected in y), i.e. the half-thickness of
+the excluded strip along the axis that joins the lens to the body. Where it
+is below the map's floor, the maps cannot say whether lens and body part.
 
 For each opening and height y this samples the widest window W (exact in φ)
 along the row at y on cells of ``--cell`` from x = -0.005 to 0.02 b and
@@ -17,6 +25,7 @@ either side of it within the row (the wedge is closed there by the body and
 the lens), and W and its middle at x = 0 (the middle is φ = π).
 
     python benchmarks/lens_wedge.py [--n 8] [--openings 1 2 5] [--cell 1e-5]
+    python benchmarks/lens_wedge.py --neck --openings 30 90 150 167.5 175 179
 
 No adaptive map is involved: it is the check the maps are held to
 (``tests/test_maps.py``: the maps on 97 and 128 base cells at Ψ = 5°).
@@ -49,13 +58,53 @@ def wedge(particle, y, cell):
     return low, high, bool(len(left) and len(right)), width[zero], middle[zero]
 
 
+def foot_height(particle, x, top=0.02, steps=45):
+    """Per x (b): the height (b) below which the column at x is excluded, bisected from [0, top].
+
+    Bisection assumes one change of W = 0 to W > 0 up the column (checked by
+    the caller on a few rows); ``steps`` halvings of ``top``.
+    """
+    low, high = np.zeros(len(x)), np.full(len(x), top)
+    for _ in range(steps):
+        mid = 0.5 * (low + high)
+        width, _ = widest_window(particle, x, mid)
+        low, high = np.where(width == 0, mid, low), np.where(width == 0, high, mid)
+    return low
+
+
+def neck(particle):
+    """(least foot height (b), its x (b), W = 0 on the axis row throughout): the axis strip's thinnest point."""
+    x = np.linspace(-0.3, 0.3, 601)
+    i = int(np.argmin(foot_height(particle, x)))
+    fine = np.linspace(x[max(i - 2, 0)], x[min(i + 2, len(x) - 1)], 401)
+    heights = foot_height(particle, fine)
+    j = int(np.argmin(heights))
+    axis, _ = widest_window(particle, fine, np.zeros(len(fine)))
+    return heights[j], fine[j], bool(np.all(axis == 0))
+
+
+def neck_table(args):
+    rows = []
+    for degrees in args.openings:
+        start = time.perf_counter()
+        height, x, closed = neck(SeSP(n=args.n, opening=math.radians(degrees)))
+        rows.append([f"{degrees:g}", f"{height:.2e}", f"{x:.5f}", "yes" if closed else "no",
+                     f"{time.perf_counter() - start:.1f} s"])  # fmt: skip
+    table(rows, ["opening (deg)", "half-thickness (b)", "at x (b)", "axis excluded", "time"])
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=float, default=8)
     parser.add_argument("--openings", type=float, nargs="+", default=[1, 2, 5])
     parser.add_argument("--cell", type=float, default=1e-5)
+    parser.add_argument("--neck", action="store_true", help="the axis strip's thinnest point per opening")
     args = parser.parse_args()
     print(machine())
+    if args.neck:
+        print(f"n = m = {args.n:g}, N = 256: the excluded strip along the axis at its thinnest, x in [-0.3, 0.3] b")
+        neck_table(args)
+        return
     print(f"n = m = {args.n:g}, rows from x = {XMIN} to {XMAX} b, cells {args.cell:g} b")
     rows = []
     for degrees in args.openings:
