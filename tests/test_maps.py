@@ -128,6 +128,16 @@ def test_asp_map_finds_the_exact_two_components_and_none_past_pi():
     assert excluded_map(SeSP(n=2, opening=math.radians(181)), base=64).count == 0
 
 
+def test_asp_map_counts_two_at_30_degrees_with_the_lens_right_of_the_centre():
+    """Exact: the lens (in both endpoint disks) on x > 0 and the body (in neither) around it, for 0 < Ψ < π."""
+    psi = math.radians(30)
+    found = excluded_map(SeSP(n=2, opening=psi), base=64)
+    assert found.count == 2
+    lens = min(found.components, key=lambda c: c.area)
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.03)
+    assert 0 < lens.bbox[0] and lens.bbox[1] <= 2 * math.cos(psi / 2) + 2 * as_pair(found.pair).reach / 62
+
+
 @pytest.mark.parametrize("base", [64, 65])
 def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
     found = excluded_map(SeSP(n=2, opening=math.radians(150)), base=base)
