@@ -61,8 +61,8 @@ def wedge(particle, y, cell):
 def foot_height(particle, x, top=0.02, steps=45):
     """Per x (b): the height (b) below which the column at x is excluded, bisected from [0, top].
 
-    Bisection assumes one change of W = 0 to W > 0 up the column (checked by
-    the caller on a few rows); ``steps`` halvings of ``top``.
+    Bisection assumes one change from W = 0 to W > 0 up the column: an allowed
+    pocket below the change it finds would be missed. ``steps`` halvings of ``top``.
     """
     low, high = np.zeros(len(x)), np.full(len(x), top)
     for _ in range(steps):
