@@ -152,6 +152,10 @@ _PAD = 2  # cells around a refined cluster included in its finer window
 _SETTLED = 2 * RESOLVED_PEAK  # nodes from a thick excluded node within which the count is settled
 _TAPER = 256.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
+# Smallest inscribed radius (nodes) of a component counted on a window at the floor; coarser windows need
+# 2 (thinner is left to the finer windows). At the floor there are none: a part one node thick is counted,
+# marked ``touches_floor``, rather than lost.
+_FLOOR_PEAK = 1.0
 _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
 # Necks s below this times the smaller body's inscribed radius p (and above the rule's ratio · p) are looked at
 # finer: a pinch behind an allowed wedge of angle α looks 1/α nodes wide on any grid, so refining it shrinks
@@ -472,7 +476,8 @@ def _window(
     # them and what is found here are judged by the same rule) and say which coarser component a piece is.
     dist = distance_to_complement(excluded, (), outside)
     at_floor = h / ctx.zoom < ctx.floor
-    found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist)
+    peak = _FLOOR_PEAK if at_floor else 2.0
+    found = components(excluded, outside=outside, measure=h * h, neck=UNDECIDED, distance=dist, min_peak=peak)
     found = _waists(found, necks_above, h, excluded, dist)
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
