@@ -8,7 +8,7 @@ look, the runs of x along the axis (y = 0) and 1e-4 b off it where the widest
 window is 0, sampled every 1e-3 b over |x| <= 0.4 b.
 
     python benchmarks/component_maps.py [--n 4] [--openings 170 176 178] [--floor 1e-7] [--base 128]
-        [--maps-folder DIR]
+        [--segments 256] [--maps-folder DIR]
 
 ``--maps-folder``: each map is saved there and read back on the next run
 (``sesp.maps.stored_map``: the folder ``sesp topology --maps-folder`` and
@@ -32,10 +32,10 @@ from sesp.plot import component_map, save_figure
 FIGURES = Path(__file__).resolve().parent / "figures"
 
 
-def axis_runs(particle, y, step=1e-3, reach=0.4):
+def axis_runs(particle, y, segments, step=1e-3, reach=0.4):
     """Runs [x0, x1] (b) along the line at height y where the widest window is 0."""
     x = np.arange(-reach, reach + step / 2, step)
-    width, _ = widest_window(particle, x, np.full_like(x, y))
+    width, _ = widest_window(particle, x, np.full_like(x, y), segments=segments)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], (width == 0).astype(int), [0]])))
     return [(float(x[a]), float(x[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
 
@@ -46,6 +46,7 @@ def main():
     parser.add_argument("--openings", type=float, nargs="+", default=[170, 176, 178])
     parser.add_argument("--floor", type=float, default=1e-7)
     parser.add_argument("--base", type=int, default=128)
+    parser.add_argument("--segments", type=int, default=256, help="polyline segments N of each particle")
     parser.add_argument("--maps-folder", type=Path, default=None)
     args = parser.parse_args()
     import matplotlib.pyplot as plt
@@ -55,7 +56,7 @@ def main():
     for degrees in args.openings:
         particle = SeSP(n=args.n, opening=math.radians(degrees))
         t0 = time.perf_counter()
-        pair = as_pair(particle)
+        pair = as_pair(particle, segments=args.segments)
         found = stored_map(args.maps_folder, particle.opening, pair, base=args.base, floor=args.floor, progress=True)
         seconds = time.perf_counter() - t0
         for k, c in enumerate(found.components, start=1):
@@ -63,15 +64,17 @@ def main():
             rows.append((f"{degrees:g}", k, f"{c.area:.4g}", f"{c.inscribed_radius:.3g}", box, found.limit(c) or "-"))
         rows.append((f"{degrees:g}", f"{found.count} in all", found.positions, f"{seconds:.0f} s", "", ""))
         for y in (0.0, 1e-4):
-            runs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in axis_runs(particle, y))
+            runs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in axis_runs(particle, y, args.segments))
             rows.append((f"{degrees:g}", f"W = 0 at y = {y:g}", "", "", runs, ""))
         fig, (whole, centre) = plt.subplots(1, 2, figsize=(11, 5))
         component_map(found, ax=whole, particle=particle)
         component_map(found, ax=centre, window=(-0.15, 0.15, -0.15, 0.15))
         centre.set_title("near the particle's centre")
-        fig.suptitle(f"n = {args.n:g}, opening {degrees:g} deg: excluded set on an adaptive map, exact in phi")
+        fig.suptitle(f"n = {args.n:g}, opening {degrees:g} deg, N = {args.segments}: excluded set on an adaptive map, "
+                     "exact in phi")  # fmt: skip
         fig.tight_layout()
-        save_figure(fig, FIGURES / f"component_map_n{args.n:g}_{degrees:g}.png")
+        tag = "" if args.segments == 256 else f"_N{args.segments}"
+        save_figure(fig, FIGURES / f"component_map_n{args.n:g}_{degrees:g}{tag}.png")
         plt.close(fig)
     table(rows, ["opening deg", "component", "area b^2", "inscribed b", "bbox (b)", "unresolved"])
 

@@ -138,6 +138,18 @@ def test_asp_map_counts_two_at_30_degrees_with_the_lens_right_of_the_centre():
     assert 0 < lens.bbox[0] and lens.bbox[1] <= 2 * math.cos(psi / 2) + 2 * as_pair(found.pair).reach / 62
 
 
+def test_a_lens_one_node_thick_at_the_floor_is_counted_and_marked():
+    """At 170° the ASP's lens has inscribed radius 1 − sin(Ψ/2) = 0.0038 b; with a floor of 2e-3 b the finest
+    cells are 0.0032 b and the lens is one node thick on them. Coarser windows leave such parts to finer ones;
+    at the floor there are none, so it is counted (exact area (π − Ψ) − sin Ψ) and marked ``floor``."""
+    psi = math.radians(170)
+    found = excluded_map(SeSP(n=2, opening=psi), base=48, floor=2e-3)
+    assert found.count == 2 and found.finest > 1 - math.sin(psi / 2) - found.finest / 2
+    lens = min(found.components, key=lambda c: c.area)
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.05)
+    assert found.limit(lens) == "floor" and 0 < lens.bbox[0]
+
+
 @pytest.mark.parametrize("base", [64, 65])
 def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
     found = excluded_map(SeSP(n=2, opening=math.radians(150)), base=base)
@@ -174,25 +186,24 @@ def test_parts_thinner_than_the_polylines_departure_from_the_curve_are_the_polyl
 
 
 def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marked_unresolved():
-    """An ASP's polyline departs from the circle by the sagitta 1 − cos(Δ/2), Δ the angle its longest chord
-    spans; a pair departs by both. With 16 segments every piece of the set at 170° is thinner than the 0.015 b
-    departure or seen only at the floor, and marked; with 256 the lens and body are resolved."""
+    """An ASP's polyline of N equal arcs departs from the circle by the sagitta 1 − cos(Δ/2), Δ = (2π − Ψ)/N;
+    a pair departs by both. With 16 segments the set at 170° is the 16-gon's (4 pieces, each thinner than
+    the 0.011 b departure, or seen only at the floor); with 256 the lens and body are resolved."""
     from sesp.maps import _transitions_dataset
 
     psi = math.radians(170)
     for segments in (16, 256):
-        chord = np.hypot(*np.diff(SeSP(n=2, opening=psi).polyline(segments).vertices, axis=0).T).max()
-        sagitta = 1 - math.sqrt(1 - chord**2 / 4)
+        sagitta = 1 - math.cos((2 * math.pi - psi) / segments / 2)
         assert as_pair(SeSP(n=2, opening=psi), segments=segments).departure == pytest.approx(2 * sagitta, rel=1e-6)
     assert as_pair(Polyline([[0, 0], [1, 0]])).departure == 0.0
     polygon = excluded_map(SeSP(n=2, opening=psi), segments=16, base=48, floor=1e-4)
-    assert polygon.count and all(polygon.limit(c) for c in polygon.components)
+    assert polygon.count != 2 and all(polygon.limit(c) for c in polygon.components)
     arc = excluded_map(SeSP(n=2, opening=psi), segments=256, base=48, floor=1e-4)
     assert arc.count == 2 and not any(arc.limit(c) for c in arc.components)
     assert arc.dataset().attrs["departure"] == pytest.approx(2 * sagitta, rel=1e-6)
     both = _transitions_dataset({psi: polygon, psi + 0.01: arc}, [(psi, psi + 0.01)], 1e-4, 48)
     assert both.transition_unresolved.values.tolist() == [True]
-    assert both.unresolved.values[1].tolist() == [False, False]
+    assert both.unresolved.values[1].tolist() == [False, False, False, False]
 
 
 def test_a_component_that_encloses_allowed_slivers_is_marked():

@@ -21,8 +21,10 @@ certified, so parts of that union that do not touch one another hold
 different components of E; but that a cell is excluded throughout is never
 proven: excluded is what W = 0 finds at nodes. A component is reported only
 where an excluded node was found inside it, so a component thinner than the
-finest cells it was looked for with (the floor) can be missed, and is
-reported with ``touches_floor`` when it was seen only at the floor.
+finest cells it was looked for with (the floor) can be missed. On a window
+at the floor one excluded node is enough (coarser windows leave parts under
+two nodes thick to the finer ones): such a part is counted, and reported
+with ``touches_floor``, as is any component seen only at the floor.
 
 Nor does an excluded node say how deep in E it lies: an allowed sliver
 thinner than the cells that no node falls in is invisible, and the bodies on

@@ -39,8 +39,7 @@ class Pair:
         identical particles).
     curve1, curve2 : Polyline
         Their polylines (a Polyline is used as given; a SeSP is sampled with
-        ``segments`` segments of nearly equal arc length, see
-        :meth:`sesp.shape.SeSP.polyline`).
+        ``segments`` segments of equal arc length).
     segments : int
         Polyline segments N of each SeSP.
     """
