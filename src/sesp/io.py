@@ -38,8 +38,9 @@ def save(ds: xr.Dataset, path) -> Path:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
+    tmp = ""
+    try:  # an interrupt just after mkstemp must not leave the temporary either
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
         os.close(fd)
         umask = os.umask(0)
         os.umask(umask)
@@ -47,10 +48,12 @@ def save(ds: xr.Dataset, path) -> Path:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(ds))
         os.replace(tmp, path)
     except (OSError, RuntimeError) as err:  # netCDF reports a failed write as RuntimeError
-        Path(tmp).unlink(missing_ok=True)
+        if tmp:
+            Path(tmp).unlink(missing_ok=True)
         raise OSError(f"{path}: could not write the file ({err}); is the disk full or the folder read-only?") from err
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        if tmp:
+            Path(tmp).unlink(missing_ok=True)
         raise
     return path
 

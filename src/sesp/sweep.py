@@ -464,7 +464,9 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
         for stale in temporaries(folder, point.hash):  # left by a killed writer; the lock is ours
             stale.unlink(missing_ok=True)
         if not _finished(path):
-            save(compute_point(point), path)
+            result = compute_point(point)
+            with _SAVING:  # the orphan watch waits for a write under way (see _stop_when_orphaned)
+                save(result, path)
         # safe to remove now: whoever locks a stale copy of it finds the point finished
         _lock_path(folder, point).unlink(missing_ok=True)
     finally:
@@ -524,6 +526,7 @@ def warm_up():
 
 _STOPPING = False  # set in a worker process once it was interrupted: it starts no further point
 _WRITING = None  # (folder, point hash) while this process holds a point's lock
+_SAVING = threading.Lock()  # held while a point file is written
 
 
 def _interrupted(signum, frame):
@@ -557,7 +560,13 @@ def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
         time.sleep(poll)
     os.kill(os.getpid(), signal.SIGINT)
     time.sleep(grace)  # a kernel call finishes its slice before the interrupt is seen
-    if _WRITING is not None:  # still not stopped: remove what it was writing (its lock is ours until we exit)
+    # Still not stopped. A write under way ends first (complete, or removed by the interrupt): netCDF, in C,
+    # would otherwise create the temporary again after it was removed here. Then remove what is left of the
+    # point (its lock is ours until we exit) and exit, holding the lock so that no write starts. The wait is
+    # bounded: an interrupt can leave the lock held (between its acquire and the with block), and a worker
+    # must never outlive its runner.
+    _SAVING.acquire(timeout=grace)
+    if _WRITING is not None:
         folder, point_hash = _WRITING
         for stale in temporaries(folder, point_hash):
             stale.unlink(missing_ok=True)
