@@ -88,6 +88,15 @@ def _record(table, size, line, a, b):
 
 
 @njit(**JIT)
+def _lines_near(low, high, y0, h, rows):
+    """(first, last): the lines r (heights y0 + r·h) that may lie in [low, high], one more each way than
+    (low − y0)/h and (high − y0)/h say: rounding can put y0 + r·h inside while the quotient says outside (a
+    line through a corner, a line tangent to a contact disk, whose chord there is sqrt(2·contact·rounding),
+    about 1e-8 b). The caller tests each line exactly."""
+    return max(0, int(math.ceil((low - y0) / h)) - 1), min(rows - 1, int(math.floor((high - y0) / h)) + 1)
+
+
+@njit(**JIT)
 def _cross_edge(crossings, size, y0, h, rows, px, py, qx, qy, step):
     """Record where the edge from p to q crosses the lines, with the step of the count of parallelograms as
     x grows past it: (line, x, step) appended to ``crossings``.
@@ -96,8 +105,9 @@ def _cross_edge(crossings, size, y0, h, rows, px, py, qx, qy, step):
     crosses one of them, and every parallelogram is crossed twice or not at all; the corners are the same
     numbers a_i − b_j in every edge that has them. Edges along the lines hold no height."""
     low, high = min(py, qy), max(py, qy)
-    for r in range(max(0, int(math.ceil((low - y0) / h)) - 1), min(rows - 1, int(math.floor((high - y0) / h)) + 1) + 1):
-        y = y0 + r * h  # the range above may be one line off by rounding; the test below is exact
+    first, last = _lines_near(low, high, y0, h, rows)
+    for r in range(first, last + 1):
+        y = y0 + r * h  # the range may be one line too wide; the test below is exact
         if low <= y < high:
             crossings, size = _record(crossings, size, r, px + (qx - px) * ((y - py) / (qy - py)), step)
     return crossings, size
@@ -260,7 +270,8 @@ def row_lengths(a1, b2, y0, h, contact, out):
     for k in range(kept):
         px, py, qx, qy = edges[0, k], edges[1, k], edges[2, k], edges[3, k]
         low, high = min(py, qy) - contact, max(py, qy) + contact
-        for r in range(max(0, int(math.ceil((low - y0) / h))), min(rows - 1, int(math.floor((high - y0) / h))) + 1):
+        first, last = _lines_near(low, high, y0, h, rows)
+        for r in range(first, last + 1):  # capsule_cut is the exact test
             lo, hi = capsule_cut(px, py, qx, qy, contact, y0 + r * h)
             if lo <= hi:
                 pieces, count_pieces = _record(pieces, count_pieces, r, lo, hi)
