@@ -10,13 +10,18 @@ It is the only thing that parts the two for small Ψ (n = 8: 1e-3 b wide
 0.1 b up at Ψ = 5°), so for the curve the lens is a component of its own for
 every Ψ > 0, however thin the wedge.
 
-The particles sesp computes are 256-segment polygons, and a polygon turned
-by π is not the same polygon mirrored (its nodes fall elsewhere on the
-curve): near y = 0 the two cross more than twice and the wedge stops short
-of the axis. ``--neck`` prints how far short: the least height of the wedge's
-foot over x from -0.3 to 0.3 b (bisected in y), i.e. the half-thickness of
-the excluded strip along the axis that joins the lens to the body. Where it
-is below the map's floor, the maps cannot say whether lens and body part.
+The particles sesp computes are 256-segment polygons. Sampled at equal arc
+along the whole curve, a polygon turned by π is not the same polygon
+mirrored (its nodes fall elsewhere on the curve): near y = 0 the two cross
+more than twice and the wedge stops short of the axis, leaving an excluded
+neck about as thick as the polygon's departure from the curve (n = 8: 3e-6 b
+at Ψ = 167.5°, 1e-6 b at 175°), which joins the lens to the body. sesp's
+polygons are their own mirror images in x on the flanks
+(:meth:`sesp.shape.SeSP.polyline`), so the wedge's foot reaches the axis at
+x = 0 as for the curve. ``--neck`` measures it: the least height of the
+wedge's foot over x from -0.3 to 0.3 b (bisected in y), i.e. the
+half-thickness of the excluded strip along the axis that joins the lens to
+the body (1e-10 b or so is the bisection's own resolution: a pinch).
 
 For each opening and height y this samples the widest window W (exact in φ)
 along the row at y on cells of ``--cell`` from x = -0.005 to 0.02 b and

@@ -65,15 +65,51 @@ def _polar_speed(p: SeSP, alpha, h=1e-6):
     return math.hypot(r, dr)
 
 
-@pytest.mark.parametrize("n, opening", [(2, 0.5), (4, math.pi / 2), (8, 1.0)])
-def test_vertices_are_equally_spaced_in_arc_length(n, opening):
-    """Arc length along the true curve (quadrature in polar angle) is L/N between vertices."""
+@pytest.mark.parametrize("n, opening", [(2, 0.5), (4, math.pi / 2), (8, 1.0), (2, 0.0), (4, 4.0)])
+def test_vertices_are_equally_spaced_in_arc_length_within_the_flanks_and_the_back(n, opening):
+    """Arc length along the true curve (quadrature in polar angle) between vertices is the same on each flank
+    (θ in [Ψ/2, π − Ψ/2] and its mirror) and on the back; for Ψ = 0 or Ψ >= π it is L/N throughout. The
+    flanks and the back are split so that the longest segment is no longer than L/(N − 4)."""
     p = SeSP(n=n, aspect=1.3, opening=opening)
-    v = p.polyline(24).vertices
+    segments = 24
+    v = p.polyline(segments).vertices
     alpha = np.unwrap(np.arctan2(v[:, 1], v[:, 0]) % (2 * np.pi))
-    arcs = [quad(lambda a: _polar_speed(p, a), lo, hi, limit=200)[0] for lo, hi in zip(alpha[:-1], alpha[1:])]
-    np.testing.assert_allclose(arcs, np.mean(arcs), rtol=1e-5)
-    assert sum(arcs) == pytest.approx(p.length, rel=1e-6)
+    arcs = np.array([quad(lambda a: _polar_speed(p, a), lo, hi, limit=200)[0] for lo, hi in zip(alpha[:-1], alpha[1:])])
+    assert arcs.sum() == pytest.approx(p.length, rel=1e-6)
+    i, j = p._flank_and_back(segments) or (0, segments)
+    for section in (arcs[:i], arcs[i : i + j], arcs[i + j :]):
+        if section.size:
+            np.testing.assert_allclose(section, section.mean(), rtol=1e-5)
+    assert arcs.max() < p.length / (segments - 4)
+
+
+@pytest.mark.parametrize("n, opening, segments", [(2, 0.5, 24), (8, 2.9, 256), (0.5, 1.5, 33), (10, 3.1, 7)])
+def test_the_polylines_flank_is_its_own_mirror_image_in_x_and_its_back_in_y(n, opening, segments):
+    """The curve's flank θ in [Ψ/2, π − Ψ/2] is its own mirror image in x, its back θ in [π − Ψ/2, π + Ψ/2]
+    its own in y; so are the polyline's, exactly, with a vertex at θ = π/2 when the flank has an even count."""
+    p = SeSP(n=n, opening=opening)
+    v = p.polyline(segments).vertices
+    i, j = p._flank_and_back(segments)
+    assert 2 * i + j == segments
+    np.testing.assert_array_equal(v[: i + 1][::-1], v[: i + 1] * [-1, 1])
+    np.testing.assert_array_equal(v[i : i + j + 1][::-1], v[i : i + j + 1] * [1, -1])
+    if i % 2 == 0:
+        np.testing.assert_array_equal(v[i // 2], [0.0, 1.0])
+
+
+@pytest.mark.parametrize("degrees", [5, 30, 90, 150, 170, 179])
+def test_the_longest_chord_is_near_equal_arc_and_corners_at_the_axis_are_vertices(degrees):
+    """The ASP's longest chord spans at most 3% more than (2π − Ψ)/N at N = 256 (its departure is the
+    sagitta of that chord); the diamond (n = 1) has its corners at θ = π/2 and π as vertices wherever the
+    flanks and back are split (30° to 170° here), so its polygon is exact. At 5° and 179° the back or the
+    flanks are too short for the split and the N segments are of equal arc: the corner at π/2 is cut."""
+    psi = math.radians(degrees)
+    v = SeSP(n=2, opening=psi).polyline(256).vertices
+    chord = np.hypot(*np.diff(v, axis=0).T).max()
+    assert 2 * math.asin(chord / 2) <= 1.03 * (2 * math.pi - psi) / 256
+    split = SeSP(n=1, opening=psi)._flank_and_back(256) is not None
+    assert split == (10.25 <= degrees <= 174.75)  # the range shape.SeSP.polyline states
+    assert (SeSP(n=1, opening=psi).departure(256) < 1e-12) == split
 
 
 def test_circle_polyline_lies_on_the_circle_and_length_converges():
@@ -150,3 +186,14 @@ def test_extreme_magnitudes_are_refused_on_input(make, word):
     """Outside the stated valid range (lengths up to 1e6 b, segments longer than 1e-9 of the size) sesp refuses."""
     with pytest.raises(ValueError, match=word):
         make()
+
+
+@pytest.mark.parametrize("n", [2, 4, 8, 10])
+def test_the_mirror_symmetric_split_departs_from_the_curve_within_5_percent_of_equal_arc(n, monkeypatch):
+    """At N = 256 the flank-symmetric polyline departs from the curve no more than 1.05 times as far as the
+    polyline of exactly equal arc does (docs/design.md §1), over openings from 5° to 179°."""
+    openings = [math.radians(d) for d in (5, 30, 90, 150, 170, 179)]
+    symmetric = [SeSP(n=n, opening=psi).departure(256) for psi in openings]
+    monkeypatch.setattr(SeSP, "_flank_and_back", lambda self, segments: None)
+    equal_arc = [SeSP(n=n, opening=psi).departure(256) for psi in openings]
+    assert max(s / e for s, e in zip(symmetric, equal_arc)) <= 1.05

@@ -24,7 +24,13 @@ where an excluded node was found inside it, so a component thinner than the
 finest cells it was looked for with (the floor) can be missed. On a window
 at the floor one excluded node is enough (coarser windows leave parts under
 two nodes thick to the finer ones): such a part is counted, and reported
-with ``touches_floor``, as is any component seen only at the floor.
+with ``touches_floor``, as is any component seen only at the floor. So is
+a component that, on a window at the floor, holds two deep parts (at least
+two nodes deep) joined only through thinner nodes, or a thin part longer
+than four times its depth beyond them: on those cells a pinch one node
+wide cannot be told from a waist (the ASP's lens at Ψ = 170° with a floor
+of 2e-3 b, one node thick, meets the body at the centre, where a node
+lies: one component, marked).
 
 Nor does an excluded node say how deep in E it lies: an allowed sliver
 thinner than the cells that no node falls in is invisible, and the bodies on
@@ -39,9 +45,12 @@ each refined cell is a node of the finer window, classified again with the
 same result. An allowed slit that a coarse node fell in stays open on every
 finer window, down to where the finer nodes see its width. For n = 8 at
 Ψ = 5° an allowed wedge from the particle's centre, 1e-3 b wide 0.1 b up,
-parts the lens from the body; the odd base grid has a column of nodes in
-it, and with a zoom of 4 (whose finer nodes straddle a coarse node) the
-finer windows closed it, and the two were one up to Ψ = 6°.
+parts the lens from the body. Every base grid, even or odd, has a row and
+a column of nodes on the axes, where the pinches and wedges of a
+mirror-symmetric pair's excluded set lie: the column on x = 0 falls in
+that wedge (an even grid without it found lens and body as one, unmarked,
+at Ψ = 2.5°). With a zoom of 4 (whose finer nodes straddle a coarse node)
+the finer windows closed it, and the two were one up to Ψ = 6°.
 
 The map is of the pair of polylines (``segments`` per curve), not of the
 curves: a polyline departs from its curve by up to about (s/2)²·κ/2 (s the
@@ -93,7 +102,9 @@ thick part's own count. The nodes of such clusters within a few cells of a
 body (a tip, the rim, a pinch, a thin component beside it) are refined until
 the cells are ``_TAPER`` (256) times smaller than the body's inscribed
 radius, and then left: a tip or a pinch looks the same at every scale. The
-rest of such a cluster, running on away from the body, is refined on: it
+rest of such a cluster, running on away from the body (farther than
+``_TIP``, 32, nodes from the body's nodes at least ``RESOLVED_PEAK`` deep,
+even where it is joined to the body on these cells), is refined on: it
 may hold a thin component (for n = 8 at Ψ = 175°, an island 3e-4 b thick
 and 0.48 b long on the axis, behind the body's tail and the pinch at the
 centre). So a thin component lying wholly within a few cells of a body and
@@ -152,6 +163,9 @@ BASE_CELLS = 128  # cells along x and y of the first window, over the pair's rea
 ZOOM = 3  # each refinement divides the cell side by this (odd: every node of a window is one of the next)
 _PAD = 2  # cells around a refined cluster included in its finer window
 _SETTLED = 2 * RESOLVED_PEAK  # nodes from a thick excluded node within which the count is settled
+# Nodes of a deep body farther than this from its thick nodes (at least RESOLVED_PEAK deep) are not its rim or
+# tip but a thin part running away from it, refined along its length (the n = 8 lens at 168°, see _untapered).
+_TIP = 8 * RESOLVED_PEAK
 _TAPER = 256.0  # a thick body's thin parts are refined until the cells are this many times smaller than it
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
 # Smallest inscribed radius (nodes) of a component counted on a window at the floor; coarser windows need
@@ -167,6 +181,11 @@ UNDECIDED = 0.8
 # waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
 WAIST = 0.6
 _SHARED = 0.25  # of its main component's nodes: a finer piece holding this much of another joins it
+_THIN = 2.0  # nodes: at the floor, parts less deep than this that join deeper ones are joins the floor cannot judge
+# A thin cluster beyond _THIN nodes from the deep part, of more nodes than this times the component's depth
+# (nodes), is a thin body joined at the floor, not the part's own tip (a tip narrowing at a half-angle of 14° or
+# more is shorter than 4 depths): the ASP's lens at 170° on cells of 0.0032 b, 100 nodes long, 1 thick.
+_THIN_TAIL = 4.0
 _SLIVER = 2.0  # nodes: an allowed cluster enclosed by a component and no deeper than this is a sliver's trace
 
 
@@ -205,7 +224,9 @@ class MapComponent:
         It was seen thinner than ``RESOLVED_PEAK`` nodes on cells that could
         not be refined further (the floor): it may be thinner than the floor.
         Or it was kept apart from another at a neck still undecided at the
-        floor: it may be joined to it.
+        floor: it may be joined to it. Or, on cells at the floor, it holds
+        a part joined to the rest only through nodes under two nodes deep:
+        it may be two.
     x, y, cell : ndarray
         Its excluded nodes (b) and their cell sides (b), for plotting.
     encloses_slivers : bool
@@ -371,7 +392,8 @@ def excluded_map(
         As in :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`).
     base : int
         Cells along x and y of the first window, which spans the pair's reach
-        (centres farther apart cannot meet) plus one cell.
+        (centres farther apart cannot meet) and at least half a cell more on
+        each side, with a node on each axis (module notes).
     floor : float
         Smallest cell side (b) the refinement goes down to.
     zoom : int
@@ -391,8 +413,10 @@ def excluded_map(
     if zoom % 2 == 0:
         raise ValueError(f"zoom must be odd (3, 5, ..., 15): each refined cell's centre is then a node; got {zoom}")
     pair = as_pair(particle, other, segments)
-    h = 2 * pair.reach / (base - 2)  # one cell beyond the reach on each side
-    start = -0.5 * base * h
+    h = 2 * pair.reach / (base - 2)  # at least half a cell beyond the reach on each side
+    # A node on each axis, for even bases too (one more cell left and below): the pinches and wedges of a
+    # mirror-symmetric pair's excluded set lie on them (the wedge at x = 0 that parts lens and body for small Ψ).
+    start = -(base // 2 + 0.5) * h
     with progress_bar(None, progress, "map", unit="pos") as bar:
         ctx = _Context(pair, floor, zoom, bar)
         everywhere = np.ones((base, base), dtype=bool)
@@ -484,7 +508,7 @@ def _window(
     thick = excluded & counted & (dist >= RESOLVED_PEAK)
     settled = ndimage.binary_dilation(thick, _disk(_SETTLED)) if thick.any() else np.zeros_like(thick)
     depth = _part_depth(excluded, dist * h if above is None else np.maximum(dist * h, above))
-    zone = _untapered(_unsettled(excluded, uncertain, settled) & active, depth, h)
+    zone = _untapered(_unsettled(excluded, uncertain, settled) & active, depth, h, thick)
     zone = _linked(zone, excluded, uncertain, dist, active)
     neck_width = np.zeros(zone.shape)
     for node, a, b, s in found.necks:
@@ -535,6 +559,7 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
     local = {}
     slivers = _enclosing_slivers(found.labels, dist > 0)  # dist > 0: the excluded nodes
     undecided = {int(k) for row in found.necks for k in row[1:3]} if at_floor else set()
+    undecided |= _thin_joins(found.labels, dist) if at_floor else set()
     for k in range(1, found.count + 1):
         mine = found.labels == k
         owners = {}
@@ -556,6 +581,33 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
             )
         local[k] = (piece, owners)
     return local
+
+
+def _thin_joins(labels, dist):
+    """Labels of the components on a window at the floor that hold a part joined to the rest only through
+    nodes less than ``_THIN`` nodes deep: two deep parts (``dist`` >= ``_THIN``) that touch only through thin
+    nodes, or a cluster of thin nodes more than ``_THIN`` nodes from the deep ones and longer than a tip of
+    the component would be (``_THIN_TAIL`` times its depth).
+    Such a join is the floor's: a pinch one node wide, or a thin body reaching the component at a pinch,
+    cannot be told from a waist on these cells (the ASP's lens near Ψ = π, on a node row through the
+    centre)."""
+    out = set()
+    ring = np.ones((3, 3), dtype=bool)
+    for k, box in enumerate(ndimage.find_objects(labels), start=1):
+        if box is None:
+            continue
+        mine = labels[box] == k
+        deep = mine & (dist[box] >= _THIN)
+        if not deep.any():
+            continue  # all of it thin: marked by its peak
+        if ndimage.label(deep, ring)[1] > 1:
+            out.add(k)
+            continue
+        tail = mine & (ndimage.distance_transform_edt(~deep) > _THIN)
+        longest = np.bincount(ndimage.label(tail, ring)[0].ravel())[1:].max() if tail.any() else 0
+        if longest >= _THIN_TAIL * float(dist[box][mine].max()):
+            out.add(k)
+    return out
 
 
 def _enclosing_slivers(labels, excluded):
@@ -728,26 +780,35 @@ def _part_depth(excluded, depth):
     return np.concatenate([[0.0], ndimage.maximum(depth, parts, np.arange(1, count + 1))])[parts]
 
 
-def _untapered(zone, depth, h):
+def _untapered(zone, depth, h, thick):
     """``zone`` without its nodes beside thick parts already looked at closely enough.
 
-    Nodes within ``_SETTLED + 2`` nodes of an excluded part deeper than
-    ``_TAPER`` cells (``depth``: the inscribed radius of each node's part, b,
-    as this window or a coarser one measured it, so that a body cut by the
-    window's edge keeps its depth) are a tip, a bump or a thin part of that
-    body, a thin component pinched to it or lying beside it, or uncertain
-    cells along its rim. They are refined until the cells are ``_TAPER``
-    times smaller than the body's inscribed radius, which resolves parts far
-    thinner than the body, and then left: a tip is thin down to its end and
-    a pinch looks the same at every scale, so both would be refined to the
-    floor. What is left is the maps' blind spot: a component thinner than
-    a couple of cells ``1 / _TAPER`` of the inscribed radius of a body and
-    wholly within a few cells of it. The farther nodes of a cluster that
-    starts beside the body are kept: a thin strip that runs away from it
-    (the n = 8 island at Ψ = 175°, 0.48 b long) is refined along its length,
+    Nodes within ``_SETTLED + 2`` nodes of the rim or tip of an excluded
+    part deeper than ``_TAPER`` cells (``depth``: the inscribed radius of
+    each node's part, b, as this window or a coarser one measured it, so
+    that a body cut by the window's edge keeps its depth) are a tip, a bump
+    or a thin part of that body, a thin component pinched to it or lying
+    beside it, or uncertain cells along its rim. They are refined until the
+    cells are ``_TAPER`` times smaller than the body's inscribed radius,
+    which resolves parts far thinner than the body, and then left: a tip is
+    thin down to its end and a pinch looks the same at every scale, so both
+    would be refined to the floor. The rim and tip are the part's nodes
+    within ``_TIP`` nodes of its ``thick`` ones (at least ``RESOLVED_PEAK``
+    nodes deep): a thin part that runs on farther is refined along its
+    length, although it is joined to the body on these cells (the n = 8 lens
+    at Ψ = 168.125°, 1.3e-3 b thick and 0.5 b long, under two nodes thick on
+    the cells of 1/256 of the body, where the count takes it into the body's
+    tail: left there, it was lost on 97 base cells and found on 128). What
+    is left is the maps' blind spot: a component thinner than a couple of
+    cells ``1 / _TAPER`` of the inscribed radius of a body and wholly within
+    a few cells of its rim. The farther nodes of a cluster that starts
+    beside the body are kept too: a thin strip that runs away from it (the
+    n = 8 island at Ψ = 175°, 0.48 b long) is refined along its length,
     which costs minutes per map where the strip is 1e-4 b thick.
     """
     deep = depth > _TAPER * h
+    if thick.any():
+        deep &= ndimage.distance_transform_edt(~thick) <= _TIP
     if not deep.any():
         return zone
     return zone & (ndimage.distance_transform_edt(~deep) > _SETTLED + 2)

@@ -288,7 +288,7 @@ def smooth_excluded_area(
 ) -> xr.Dataset:
     """A_ex(φ) of the smooth SeSPs (not their polygons) by scanlines, with an error estimate; b².
 
-    A polygon of N equal-arc-length segments misses the smooth curve's A_ex(φ) by an error that falls as
+    A polygon of N (nearly) equal-arc-length segments misses the smooth curve's A_ex(φ) by an error that falls as
     N⁻². :func:`scanline_excluded_area` at N = ``segments``, N/2 and N/4 gives two Richardson
     extrapolations in N; the finer is the value, its change from the coarser is the polygon's share of the
     error bar, added to the scanline error at N. Checked against the smooth ASP's A_ex(φ), computed

@@ -39,7 +39,8 @@ class Pair:
         identical particles).
     curve1, curve2 : Polyline
         Their polylines (a Polyline is used as given; a SeSP is sampled with
-        ``segments`` segments of equal arc length).
+        ``segments`` segments of nearly equal arc length, see
+        :meth:`sesp.shape.SeSP.polyline`).
     segments : int
         Polyline segments N of each SeSP.
     """

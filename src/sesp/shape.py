@@ -310,13 +310,14 @@ class SeSP:
         Measured at the points of the dense arc-length table (chords within
         1e-10 of the curve), each against the polyline segment spanning its
         arc length and the two beside it; about (s/2)²·κ/2 at the largest
-        curvature κ, s the segment length.
+        curvature κ, s the longest segment.
         """
         theta, arc = self._upper_arc_table()
         v = self.polyline(segments).vertices
         pts = self.point(theta)
         n_seg = len(v) - 1
-        k = np.clip((arc * (n_seg / (2.0 * arc[-1]))).astype(np.int64), 0, n_seg - 1)
+        starts = self._vertex_arcs(n_seg)
+        k = np.clip(np.searchsorted(starts, arc, side="right") - 1, 0, n_seg - 1)
         best = np.full(len(pts), np.inf)
         for shift in (-1, 0, 1):
             j = np.clip(k + shift, 0, n_seg - 1)
@@ -326,13 +327,71 @@ class SeSP:
             best = np.minimum(best, np.hypot(*(w - lam[:, None] * d).T))
         return float(best.max())
 
+    def _flank_and_back(self, n_seg: int):
+        """Segment counts (i, j) of one flank and of the back when the polyline can be its own mirror image
+        in x, else None.
+
+        For 0 < Ψ < π the curve θ in [Ψ/2, π − Ψ/2] (the upper flank) is its own mirror image in x, and
+        the back θ in [π − Ψ/2, π + Ψ/2] its own in y; of the splits N = 2i + j (i segments of equal arc on each
+        flank, j on the back) it takes the one whose longest segment is shortest, among even i where N allows;
+        None too when its shortest segment would be under a quarter of its longest.
+        """
+        if not 0.0 < self.opening < math.pi or n_seg < 3:
+            return None
+        total = 2.0 * self._upper_arc_table()[1][-1]
+        flank = self._flank_arc()
+        back = total - 2.0 * flank
+        # An even i puts a vertex at θ = π/2, on the axis (a corner or cusp of some curves).
+        i = np.arange(2, (n_seg - 1) // 2 + 1, 2)
+        if i.size == 0:
+            i = np.arange(1, (n_seg - 1) // 2 + 1)
+        longest = np.maximum(flank / i, back / (n_seg - 2 * i))
+        best = int(i[np.argmin(longest)])
+        shortest = min(flank / best, back / (n_seg - 2 * best))
+        if shortest < longest.min() / 4:  # a flank or back far shorter than L/N (Ψ near 0 or π): equal arc
+            return None
+        return best, n_seg - 2 * best
+
+    def _flank_arc(self) -> float:
+        """Arc length (b) of the upper flank, θ in [Ψ/2, π − Ψ/2]: twice that to θ = π/2, measured from the
+        last table point before π/2 along the chord (the table is straight within 1e-10 there; interpolating in
+        θ would not be where the curve moves like |θ − π/2|^(2/n))."""
+        theta, arc = self._upper_arc_table()
+        k = int(np.searchsorted(theta, math.pi / 2, side="right")) - 1
+        return 2.0 * float(arc[k] + np.hypot(*(self.point(math.pi / 2) - self.point(theta[k]))))
+
+    def _vertex_arcs(self, n_seg: int) -> np.ndarray:
+        """Arc lengths (b, from θ = Ψ/2) of the polyline's vertices on the upper half, 1 + N//2 of them."""
+        theta, arc = self._upper_arc_table()
+        half = arc[-1]
+        counts = self._flank_and_back(n_seg)
+        if counts is None:
+            return np.arange(n_seg // 2 + 1) * (2.0 * half / n_seg)
+        i, j = counts
+        flank = self._flank_arc()
+        on_flank = np.arange(i + 1) * (flank / i)
+        on_back = flank + np.arange(1, j // 2 + 1) * (2.0 * (half - flank) / j)
+        return np.concatenate([on_flank, on_back])
+
     def polyline(self, segments: int = DEFAULT_SEGMENTS) -> Polyline:
-        """The curve as N segments spanning equal arc length (equal-distance sampling).
+        """The curve as N segments of (nearly) equal arc length, mirror-symmetric in both axes where the
+        curve is.
+
+        The curve's upper half mirrored in y is its lower half, and for 0 < Ψ < π its upper flank (θ in
+        [Ψ/2, π − Ψ/2]) mirrored in x is itself, as is the lower. N = 2i + j segments,
+        i of equal arc on each flank and j on the back, keep both symmetries; the split makes the longest
+        segment as short as it can (see :meth:`_flank_and_back`): for the ASP at N = 256 its arc is at
+        most 3% longer than (2π − Ψ)/N; and a corner at θ = π/2 (n = 1) becomes a vertex, so the diamond's
+        polygon is the diamond where the split is made (tests/test_shape.py). The symmetry
+        in x matters for the excluded set: the pinch between two lobes lies on x = 0, where the mirrored
+        polygons touch as the curves do, instead of leaving a neck as thick as the polygons' departure.
+        With Ψ = 0, Ψ >= π, N < 3, or a flank or back too short for segments a quarter as long as the others
+        (Ψ near 0 or π: at N = 256 the split is made from 1.5° to 179.5° for the ASP, from 10.25° to 174.75°
+        for the diamond), the N segments are of exactly equal arc.
 
         Vertices lie on the curve: |x/A|^n + |y|^m = 1 to rounding, or to
         1e-7 on the flat sides of large n (seen from n ≈ 10), where θ cannot
-        resolve the curve and they are placed on a straight stretch of it. The endpoints are exact, and the
-        polyline is exactly mirror-symmetric about the x axis, as the curve is.
+        resolve the curve and they are placed on a straight stretch of it. The endpoints are exact.
 
         Parameters
         ----------
@@ -346,12 +405,14 @@ class SeSP:
         """
         n_seg = check_segments(segments)
         theta, arc = self._upper_arc_table()
-        half = arc[-1]
-        # Arc length s_k = k L / N; the point at L - s is the mirror of the point at s.
-        k_upper = np.arange(n_seg // 2 + 1)
-        targets = k_upper * (2.0 * half / n_seg)
-        upper = self._points_at(targets, theta, arc)
+        upper = self._points_at(self._vertex_arcs(n_seg), theta, arc)
         upper[0] = self.point(theta[0])
+        counts = self._flank_and_back(n_seg)
+        if counts is not None:
+            i = counts[0]
+            if i % 2 == 0:
+                upper[i // 2] = self.point(math.pi / 2)
+            upper[i - np.arange((i + 1) // 2)] = upper[: (i + 1) // 2] * np.array([-1.0, 1.0])
         if n_seg % 2 == 0:
             upper[-1] = self.point(math.pi)
         lower = upper[: (n_seg + 1) // 2][::-1] * np.array([1.0, -1.0])
