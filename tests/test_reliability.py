@@ -47,6 +47,16 @@ FAULT_SWEEP = (
 )
 
 
+# The repeated-kill test needs a sweep long enough that at least 5 kills land before it finishes, at sleeps
+# of 0.5-4 s per worker, on a machine faster than CI's: about 25 s on two cores, 3 times FAULT_SWEEP, whose
+# time is mostly the writing of its small point files.
+KILLED_SWEEP = (
+    FAULT_SWEEP.replace("nx = 48", "nx = 128")
+    .replace("nphi = 48", "nphi = 128")
+    .replace("segments = 48", "segments = 256")
+)
+
+
 def _digest(path) -> str:
     """The file's results, bit for bit (provenance attributes aside)."""
     return content_digest(path)
@@ -92,7 +102,7 @@ def test_sweep_survives_repeated_sigkill(tmp_path, workers, kill):
     is left (the runner's own, of the manifest or the collected file, are removed by the next run).
     """
     path = tmp_path / "s.toml"
-    path.write_text(FAULT_SWEEP.format(out=tmp_path / "killed"))
+    path.write_text(KILLED_SWEEP.format(out=tmp_path / "killed"))
     folder = tmp_path / "killed"
     rng = random.Random(7)
     kills = 0
