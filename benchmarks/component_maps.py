@@ -40,6 +40,15 @@ def axis_runs(particle, y, segments, step=1e-3, reach=0.4):
     return [(float(x[a]), float(x[b - 1])) for a, b in zip(edges[::2], edges[1::2])]
 
 
+def axis_window(found, thin=0.02):
+    """(xmin, xmax, ymin, ymax), b: the components along the axis (less than ``thin`` off it), y stretched to
+    show their thickness, at least 10 finest cells; |x| <= 0.3 b when there are none."""
+    strips = [c.bbox for c in found.components if max(abs(c.bbox[2]), abs(c.bbox[3])) < thin]
+    reach = 1.05 * max([abs(v) for b in strips for v in b[:2]], default=0.3 / 1.05)
+    half = max([10 * found.finest] + [max(abs(b[2]), abs(b[3])) for b in strips])
+    return (-reach, reach, -1.5 * half, 1.5 * half)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--n", type=float, default=4.0)
@@ -66,10 +75,15 @@ def main():
         for y in (0.0, 1e-4):
             runs = ", ".join(f"[{a:.3f}, {b:.3f}]" for a, b in axis_runs(particle, y, args.segments))
             rows.append((f"{degrees:g}", f"W = 0 at y = {y:g}", "", "", runs, ""))
+        if any(len(c.x) == 0 for c in found.components):  # a map file written before the nodes were kept
+            print(f"{degrees:g} deg: the stored map holds no nodes, figure not drawn; remove it to map again")
+            continue
         fig, (whole, centre) = plt.subplots(1, 2, figsize=(11, 5))
         component_map(found, ax=whole, particle=particle)
-        component_map(found, ax=centre, window=(-0.15, 0.15, -0.15, 0.15))
-        centre.set_title("near the particle's centre")
+        near = axis_window(found)
+        component_map(found, ax=centre, window=near, aspect="auto")
+        stretch = (near[1] - near[0]) / (near[3] - near[2]) * 0.8  # the panel is about 0.8 as tall as wide
+        centre.set_title(f"along the axis, y stretched {stretch:.0f} times")
         fig.suptitle(f"n = {args.n:g}, opening {degrees:g} deg, N = {args.segments}: excluded set on an adaptive map, "
                      "exact in phi")  # fmt: skip
         fig.tight_layout()

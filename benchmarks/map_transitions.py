@@ -77,7 +77,7 @@ def main():
     same_everywhere = same_resolved = True
     for n in args.n:
         found, seconds, flagged = {}, {}, {}
-        for base in args.bases:
+        for base in dict.fromkeys(args.bases):  # a base given twice is searched once
             path = args.out / f"map_transitions_n{n:g}_base{base}.nc"
             if args.reuse and path.exists():
                 result = xr.load_dataset(path)

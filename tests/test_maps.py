@@ -457,6 +457,7 @@ def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, caps
         assert (a.area, a.inscribed_radius, a.bbox, a.touches_floor) == (b.area, b.inscribed_radius, b.bbox,
                                                                           b.touches_floor)  # fmt: skip
         assert back.limit(a) == found.limit(b)
+        assert len(a.x) > 0 and all(np.array_equal(getattr(a, k), getattr(b, k)) for k in ("x", "y", "cell"))
     assert (back.departure, back.floor, back.base_cells) == (found.departure, found.floor, 48)
     assert back.pair.departure == found.departure and back.pair.particle == ASP90
     assert main(["info", str(path)]) == 0

@@ -87,6 +87,11 @@ OPTIONAL = {
     "entangled": (FIELD_DIMS, "b"),
     "allowed_fraction": (PLANE_DIMS, "f"),
     "classes": (PLANE_DIMS, "i"),
+    # a sesp.map's excluded nodes (b), their cell sides (b) and the component (1, 2, ...) each belongs to
+    "node_x": (("node",), "f"),
+    "node_y": (("node",), "f"),
+    "node_cell": (("node",), "f"),
+    "node_component": (("node",), "i"),
 }
 
 LONG_NAMES = {

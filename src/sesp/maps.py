@@ -289,10 +289,15 @@ class ExcludedMap:
     def dataset(self) -> xr.Dataset:
         """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor and sliver
         flags and ``unresolved`` (:meth:`limit` is not ""), largest first; the map's resolution, the polylines'
-        ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes. The excluded
-        nodes are not kept: :meth:`from_dataset` gives the components without them."""
+        ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes; and the excluded
+        nodes (``node_x``, ``node_y``, ``node_cell``, b, and ``node_component``, over ``node``), so that a map read
+        back can be drawn (:func:`sesp.plot.component_map`)."""
         comps = self.components
         box = np.array([c.bbox for c in comps], dtype=float).reshape(-1, 4)
+        label = np.concatenate([np.full(len(c.x), k, dtype=np.int32) for k, c in enumerate(comps, start=1)] or [[]])
+
+        def nodes(name):
+            return "node", np.concatenate([getattr(c, name) for c in comps] or [[]]).astype(float), {"units": "b"}
 
         def flags(name):
             return "component", np.array([getattr(c, name) for c in comps], dtype=bool)
@@ -309,6 +314,10 @@ class ExcludedMap:
                 "encloses_slivers": flags("encloses_slivers"),
                 "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
                 "bbox": (("component", "side"), box, {"units": "b", "sides": "xmin xmax ymin ymax"}),
+                "node_x": nodes("x"),
+                "node_y": nodes("y"),
+                "node_cell": nodes("cell"),
+                "node_component": ("node", label.astype(np.int32)),
             },
             coords={"component": np.arange(1, len(comps) + 1)},
             attrs=attrs,
@@ -316,15 +325,22 @@ class ExcludedMap:
 
     @classmethod
     def from_dataset(cls, ds: xr.Dataset) -> ExcludedMap:
-        """The map a ``sesp.map`` dataset (:meth:`dataset`) holds, its components without their nodes, its pair
-        rebuilt from the attributes when they describe one."""
-        empty = np.empty(0)
+        """The map a ``sesp.map`` dataset (:meth:`dataset`) holds, its pair rebuilt from the attributes when they
+        describe one. Files written before the nodes were kept give the components without them."""
+        label = ds.node_component.values if "node_component" in ds else np.empty(0, dtype=int)
+
+        def nodes(name, k):
+            return ds[name].values[label == k] if name in ds else np.empty(0)
+
         comps = [
-            MapComponent(float(a), float(r), tuple(float(v) for v in box), bool(f), empty, empty, empty, bool(s))
-            for a, r, box, f, s in zip(
+            MapComponent(
+                float(a), float(r), tuple(float(v) for v in box), bool(f),
+                nodes("node_x", k), nodes("node_y", k), nodes("node_cell", k), bool(s),
+            )
+            for k, (a, r, box, f, s) in enumerate(zip(
                 ds.area.values, ds.inscribed_radius.values, ds.bbox.values.reshape(-1, 4),
                 ds.touches_floor.values, ds.encloses_slivers.values,
-            )
+            ), start=1)
         ]  # fmt: skip
         values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items()}
         return cls(comps, **values, pair=pair_of(ds) if "particle_kind" in ds.attrs else None)

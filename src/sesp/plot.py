@@ -514,7 +514,7 @@ def onsager_plot(ds: xr.Dataset, *, fig=None):
     return fig
 
 
-def component_map(found, *, ax=None, particle=None, window=None):
+def component_map(found, *, ax=None, particle=None, window=None, aspect="equal"):
     """The components of an adaptive map (:func:`sesp.excluded_map`), each in its own colour.
 
     Each excluded node is drawn as its cell (cells of every refinement level),
@@ -522,7 +522,9 @@ def component_map(found, *, ax=None, particle=None, window=None):
     the legend gives each component's area, inscribed radius and what it may
     be an artefact of (:meth:`~sesp.maps.ExcludedMap.limit`). ``window``
     (xmin, xmax, ymin, ymax; b) defaults to the components' bounding box,
-    padded. ``particle`` draws the fixed particle in grey for scale.
+    padded. ``particle`` draws the fixed particle in grey for scale. ``aspect``
+    as in matplotlib: "auto" stretches y, to see strips along the axis a
+    thousandth as thick as they are long.
     """
     from matplotlib.collections import PatchCollection
     from matplotlib.patches import Patch, Rectangle
@@ -548,7 +550,7 @@ def component_map(found, *, ax=None, particle=None, window=None):
     if window is not None:
         ax.set_xlim(window[0], window[1])
         ax.set_ylim(window[2], window[3])
-    ax.set_aspect("equal")
+    ax.set_aspect(aspect)
     ax.set_xlabel("x (b)")
     ax.set_ylabel("y (b)")
     plural = "s" if found.count != 1 else ""
