@@ -3,7 +3,7 @@
 For each opening: the components (area, inscribed radius, bounding box,
 what it may be an artefact of: ``ExcludedMap.limit``), the positions classified and the time, and a PNG of the map in
 ``benchmarks/figures/component_map_n{n}_{degrees}.png`` (the whole set, and
-beside it the neighbourhood of the particle's centre). As an independent
+beside it the components along the axis, with y stretched). As an independent
 look, the runs of x along the axis (y = 0) and 1e-4 b off it where the widest
 window is 0, sampled every 1e-3 b over |x| <= 0.4 b.
 
