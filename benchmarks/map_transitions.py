@@ -31,15 +31,15 @@ from _common import machine, table
 
 from sesp import SeSP, map_transitions
 from sesp.pair import as_pair
+from sesp.report import map_change
 
 
 def brackets(result):
-    """[(count_low, count_high, low_deg, high_deg)] of a transition dataset."""
+    """[(change, low_deg, high_deg)] of a transition dataset ("3 -> 3 (off axis 0 -> 2)" where only
+    the number of components off the axis changed)."""
     return [
-        (int(a), int(b), float(lo), float(hi))
-        for a, b, lo, hi in zip(
-            result.count_low.values, result.count_high.values, result.low_degrees.values, result.high_degrees.values
-        )
+        (map_change(result, t), float(lo), float(hi))
+        for t, (lo, hi) in enumerate(zip(result.low_degrees.values, result.high_degrees.values))
     ]
 
 
@@ -104,7 +104,7 @@ def main():
             for side, flags in zip((a, b), (flagged[base] for base in args.bases)):
                 t = side[k] if k < len(side) else None
                 mark = " *" if t and flags[k] else ""
-                cells += [f"{t[0]} -> {t[1]}{mark}", f"{t[2]:.2f}-{t[3]:.2f}", f"{t[3] - t[2]:.2f}"] if t else ["-"] * 3
+                cells += [f"{t[0]}{mark}", f"{t[1]:.2f}-{t[2]:.2f}", f"{t[2] - t[1]:.2f}"] if t else ["-"] * 3
             rows.append((f"{n:g}", *cells))
         same = a == b
         same_everywhere &= same

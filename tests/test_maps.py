@@ -17,6 +17,7 @@ from sesp.kernels.orientations import widest_windows
 from sesp.maps import ExcludedMap, excluded_map, map_transitions, widest_window
 from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
 from sesp.pair import as_pair
+from sesp.report import format_map_transitions, map_change
 from sesp.topology import RESOLVED_PEAK, components
 
 ASP90 = SeSP(n=2, opening=math.radians(90))
@@ -446,6 +447,39 @@ def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch):
     assert result.count_high.values[-1] == 0
     assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
     assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5
+
+
+def _piece(ymin, ymax):
+    return maps.MapComponent(1.0, 0.1, (-1.0, 1.0, ymin, ymax), False, np.empty(0), np.empty(0), np.empty(0))
+
+
+def test_transition_search_sees_changes_that_leave_the_count_unchanged_over_a_step(monkeypatch):
+    """A strip on the axis joins the body at 3° (2 -> 1) and the body parts into a mirror pair off the axis at
+    6° (1 -> 2): the count is 2 at both ends of the 0-10° step, and the number off the axis is not, so the
+    step is bisected and both changes are bracketed."""
+
+    def search(join, part):
+        def fake_map(folder, opening, pair, **kwargs):
+            psi = math.degrees(opening)
+            body = [_piece(-0.5, 0.5)] if psi < part else [_piece(-0.5, -0.01), _piece(0.01, 0.5)]
+            strip = [_piece(-1e-3, 1e-3)] if psi < join else []
+            return ExcludedMap(body + strip, floor=1e-4, base_cells=32, reach=2.0, positions=1, finest=1e-4)
+
+        monkeypatch.setattr(maps, "stored_map", fake_map)
+        return map_transitions(SeSP(n=4), (0.0, math.radians(10)), step=math.radians(10),
+                               tolerance=math.radians(0.5))  # fmt: skip
+
+    result = search(3.0, 6.0)
+    assert [int(v) for v in result["count"].sel(opening=[0.0, math.radians(10)])] == [2, 2]
+    assert list(result.off_axis.sel(opening=[0.0, math.radians(10)]).values) == [0, 2]
+    assert [(int(a), int(b)) for a, b in zip(result.count_low, result.count_high)] == [(2, 1), (1, 2)]
+    for t, event in enumerate((3.0, 6.0)):
+        assert result.low_degrees[t] < event <= result.high_degrees[t] <= result.low_degrees[t] + 1.0
+    assert list(result.off_axis_high.values) == [0, 2]
+    both = search(3.0, 3.1)  # in one bracket: the count is the same at its ends, the number off the axis is not
+    assert both.sizes["transition"] == 1 and map_change(both, 0) == "2 -> 2 (off axis 0 -> 2)"
+    assert "2 -> 2 (off axis 0 -> 2) at Psi in" in format_map_transitions(both)
+    assert map_change(result, 0) == "2 -> 1"
 
 
 def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):

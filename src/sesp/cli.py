@@ -329,6 +329,8 @@ def _transitions_json(result) -> dict:
             "high_deg": float(result.high_degrees[t]),
             "count_low": int(result.count_low[t]),
             "count_high": int(result.count_high[t]),
+            "off_axis_low": int(result.off_axis_low[t]),
+            "off_axis_high": int(result.off_axis_high[t]),
             "unresolved": bool(result.transition_unresolved[t]),
         }
         for t in range(result.sizes["transition"])

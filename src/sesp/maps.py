@@ -275,6 +275,12 @@ class ExcludedMap:
     def count(self) -> int:
         return len(self.components)
 
+    @property
+    def off_axis(self) -> int:
+        """Components wholly above or wholly below the x-axis (their cells' box does not meet y = 0): for a
+        pair symmetric under y → −y, the mirror pairs its bodies part into off the axis."""
+        return sum(1 for c in self.components if c.bbox[2] > 0.0 or c.bbox[3] < 0.0)
+
     def limit(self, component: MapComponent) -> str:
         """What a component may be an artefact of: "floor" (seen only at the floor, or kept apart at a neck
         still undecided there), "slivers" (it encloses allowed slivers seen at isolated nodes, which may part
@@ -846,7 +852,13 @@ def map_transitions(
 
     Maps every ``step`` over ``opening_range`` (radians, Ψ < 2π kept), then
     bisects each step whose count changes until the bracket is at most
-    ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°). ``progress``: a bar
+    ``2 · tolerance`` wide (default ±0.005 rad, ±0.29°). A step is bisected
+    too where the count is the same at both ends but the number of
+    components off the x-axis (:attr:`ExcludedMap.off_axis`) is not: a body
+    parting into a mirror pair off the axis (+1) and a strip on the axis
+    joining it (−1) in one step leave the count unchanged (n = 4 between
+    170° and 175° on 128 cells). Changes that cancel in both numbers within
+    one step are still not seen. ``progress``: a bar
     of the maps and, below it, one of the positions of the map being made.
     ``folder``: where each map is saved as soon as it is made
     (``map_<opening>.nc``, a ``sesp.map`` dataset); a map already there is
@@ -861,9 +873,10 @@ def map_transitions(
         ``touches_floor``, ``unresolved`` (:meth:`ExcludedMap.limit`)
         (opening, component; NaN / False beyond the count) and ``departure``
         (b) at every opening mapped; ``low``, ``high`` (rad),
-        ``low_degrees``, ``high_degrees``, ``count_low``, ``count_high`` and
-        ``transition_unresolved`` (a component at either end is unresolved:
-        the bracket may be the floor's or the polylines') per ``transition``.
+        ``low_degrees``, ``high_degrees``, ``count_low``, ``count_high``,
+        ``off_axis_low``, ``off_axis_high`` and ``transition_unresolved`` (a
+        component at either end is unresolved: the bracket may be the floor's
+        or the polylines') per ``transition``; ``off_axis`` per opening.
     """
     lo, hi = (float(v) for v in opening_range)
     if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
@@ -876,17 +889,17 @@ def map_transitions(
     maps = {}
     with progress_bar(None, progress, "maps over Ψ", unit="map") as bar:
 
-        def count(opening):
+        def state(opening):
             if opening not in maps:
                 pair = as_pair(make(opening), None, segments)
                 maps[opening] = stored_map(folder, opening, pair, base=base, floor=floor, progress=progress)
                 bar.update(1)
-            return maps[opening].count
+            return maps[opening].count, maps[opening].off_axis
 
         brackets = []
         for a, b in zip(openings[:-1], openings[1:]):
-            brackets += _bisect(count, a, b, tolerance) if count(a) != count(b) else []
-        count(openings[-1])
+            brackets += _bisect(state, a, b, tolerance)
+        state(openings[-1])
     return _transitions_dataset(maps, brackets, floor, base)
 
 
@@ -930,14 +943,14 @@ def _same(saved, value) -> bool:
     return bool(np.all(np.asarray(saved) == np.asarray(value)))
 
 
-def _bisect(count, low, high, tolerance):
-    """Brackets no wider than 2·tolerance around each change of ``count`` in [low, high]."""
-    if count(low) == count(high):
+def _bisect(state, low, high, tolerance):
+    """Brackets no wider than 2·tolerance around each change of ``state`` in [low, high]."""
+    if state(low) == state(high):
         return []
     if high - low <= 2 * tolerance:
         return [(low, high)]
     mid = 0.5 * (low + high)
-    return _bisect(count, low, mid, tolerance) + _bisect(count, mid, high, tolerance)
+    return _bisect(state, low, mid, tolerance) + _bisect(state, mid, high, tolerance)
 
 
 def _transitions_dataset(maps, brackets, floor, base):
@@ -957,6 +970,7 @@ def _transitions_dataset(maps, brackets, floor, base):
     return xr.Dataset(
         {
             "count": ("opening", [maps[o].count for o in openings]),
+            "off_axis": ("opening", [maps[o].off_axis for o in openings]),
             "area": (("opening", "component"), area, {"units": "b^2"}),
             "inscribed_radius": (("opening", "component"), radius, {"units": "b"}),
             "touches_floor": (("opening", "component"), at_floor),
@@ -968,6 +982,8 @@ def _transitions_dataset(maps, brackets, floor, base):
             "high_degrees": ("transition", np.degrees(high), {"units": "degree"}),
             "count_low": ("transition", np.array([maps[b[0]].count for b in brackets], dtype=int)),
             "count_high": ("transition", np.array([maps[b[1]].count for b in brackets], dtype=int)),
+            "off_axis_low": ("transition", np.array([maps[b[0]].off_axis for b in brackets], dtype=int)),
+            "off_axis_high": ("transition", np.array([maps[b[1]].off_axis for b in brackets], dtype=int)),
             "transition_unresolved": ("transition", np.array(ends_unresolved, dtype=bool)),
         },
         coords={

@@ -108,12 +108,21 @@ def format_map_transitions(result, family=None) -> str:
     for t in range(result.sizes["transition"]):
         unresolved = "transition_unresolved" in result and bool(result.transition_unresolved[t])
         lines.append(
-            f"  * {int(result.count_low[t])} -> {int(result.count_high[t])} at Psi in"
+            f"  * {map_change(result, t)} at Psi in"
             f" [{float(result.low_degrees[t]):.3f}, {float(result.high_degrees[t]):.3f}]"
             + ("  (unresolved: a component at an end is seen only at the floor, encloses allowed slivers that may"
                " part it, or is thinner than the polylines depart from the curves)" if unresolved else "")
         )  # fmt: skip
     return "\n".join(lines)
+
+
+def map_change(result, t) -> str:
+    """Transition ``t`` of :func:`sesp.maps.map_transitions` as "count -> count", with the number of
+    components off the x-axis when only that changed (a step bisected for it)."""
+    change = f"{int(result.count_low[t])} -> {int(result.count_high[t])}"
+    if "off_axis_low" not in result or result.count_low[t] != result.count_high[t]:
+        return change
+    return f"{change} (off axis {int(result.off_axis_low[t])} -> {int(result.off_axis_high[t])})"
 
 
 def _particle_line(attrs, prefix) -> str:
