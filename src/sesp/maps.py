@@ -81,7 +81,14 @@ where the cells shrank ``zoom`` times): a pinch behind a wedge keeps its
 width in nodes, so its width in b shrinks with the cells, while a waist
 narrower than 0.8 of the bodies keeps its width on every window (the n = 4
 body at Ψ = 170° on a base of 64 cells, which the floor otherwise split in
-two). At the floor an undecided neck keeps the bodies apart:
+two). A neck that the rule decides by less than a node (``NEAR``: s within
+a node under ``ratio`` · p) is undecided too, and looked at again: the
+distance field is exact to about a node, and a shallow maximum between the
+bodies can hide in that node. The n = 4 arrowhead at Ψ = 173.125° on 97
+cells was cut so, its wings judged against each other where the finer
+windows see a tip between them (one body by the rule); such a neck is never
+taken for a waist, since a narrow neck keeps its width in b on every window.
+At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
 ASP's split as Ψ → 0⁺, its body and lens near π) is never decided. Both
@@ -180,6 +187,7 @@ UNDECIDED = 0.8
 # An undecided neck that keeps at least this share of its width (b) when the cells shrink ``zoom`` times is a
 # waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
 WAIST = 0.6
+_RATIO = 0.5  # the pinch rule's ratio (:func:`sesp.topology.components`' default, which the maps use)
 _SHARED = 0.25  # of its main component's nodes: a finer piece holding this much of another joins it
 _THIN = 2.0  # nodes: at the floor, parts less deep than this that join deeper ones are joins the floor cannot judge
 # A thin cluster beyond _THIN nodes from the deep part, of more nodes than this times the component's depth
@@ -555,7 +563,8 @@ def _waists(found, necks_above, h, excluded, dist):
 
     Behind an allowed wedge a pinch looks about as many nodes wide on every window, so its width in b
     shrinks with the cells; a waist of one body keeps its width. A neck the coarser window did not refine
-    (``necks_above`` 0 there) is left undecided.
+    (``necks_above`` 0 there) is left undecided, and so is one that parts the bodies by the rule, within a
+    node of its threshold (``NEAR`` in the labelling kernel): a narrow neck keeps its width in b too.
     """
     if necks_above is None or not len(found.necks):
         return found
@@ -564,7 +573,8 @@ def _waists(found, necks_above, h, excluded, dist):
     for row in found.necks:
         node, a, b, s = int(row[0]), int(row[1]), int(row[2]), row[3]
         coarse = necks_above.flat[node]
-        if a and b and a != b and coarse > 0 and s * h >= WAIST * coarse:
+        wide = a and b and a != b and s >= _RATIO * min(found.peaks[a - 1], found.peaks[b - 1])
+        if wide and coarse > 0 and s * h >= WAIST * coarse:
             merged[merged == merged[b]] = merged[a]
         else:
             kept.append(row)

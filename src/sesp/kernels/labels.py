@@ -56,8 +56,9 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
     so the result does not depend on the order the neighbours are visited.
 
     Undecided necks: where the lower peak is at least ``resolved`` and
-    ratio · p <= s < neck · p, the neck is narrower than the smaller body but
-    wide enough to join them at this resolution; the two are kept apart and
+    ratio · p − NEAR <= s < neck · p, the neck is narrower than the smaller body but
+    wide enough to join them at this resolution, or it parts them by less
+    than a node (the distance field is exact to about a node); the two are kept apart and
     the meeting is written to ``necks`` (rows: node, the two components'
     numbers, s), as many as it holds, for a finer look (``neck`` = 0: none).
     Returns (count, number of necks found).
@@ -140,6 +141,12 @@ def _body(root, kept, merged_into):
     return root
 
 
+# Node spacings: a neck decided apart within this of the rule's threshold (ratio · p − NEAR <= s < ratio · p) is
+# listed as undecided when necks are asked for: the distance field is exact to about a node, so the verdict
+# could go the other way on a finer window.
+NEAR = 1.0
+
+
 @njit(**JIT)
 def _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, s, ratio, min_peak, neck, resolved):
     """(verdict, higher body, lower body) where a node of value s joins the parts rooted at ``best`` and
@@ -156,7 +163,9 @@ def _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, s, rat
             b = _body(owner[touched[j]], kept, merged_into)
             up, down = (a, b) if peak[a] >= peak[b] else (b, a)
             p = peak[down]
-            if s < ratio * p and p >= min_peak:
+            apart = s < ratio * p and p >= min_peak
+            near = neck > 0 and p >= resolved and s >= ratio * p - NEAR
+            if apart and not near:
                 v = 0
             elif s < neck * p and p >= resolved:
                 v = 1
