@@ -56,11 +56,12 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
     so the result does not depend on the order the neighbours are visited.
 
     Undecided necks: where the lower peak is at least ``resolved`` and
-    ratio · p − NEAR <= s < neck · p, the neck is narrower than the smaller body but
-    wide enough to join them at this resolution, or it parts them by less
-    than a node (the distance field is exact to about a node); the two are kept apart and
-    the meeting is written to ``necks`` (rows: node, the two components'
-    numbers, s), as many as it holds, for a finer look (``neck`` = 0: none).
+    ratio · p − NEAR <= s < neck · p, the neck is narrower than the smaller
+    body but wide enough to join them at this resolution, or it parts them
+    by less than a node (the distance field is exact to about a node); the
+    two are kept apart and the meeting is written to ``necks`` (rows: node,
+    the two components' numbers, s), as many as it holds, for a finer look
+    (``neck`` = 0: none).
     Returns (count, number of necks found).
     """
     n = dist.shape[0]
