@@ -86,8 +86,9 @@ a node under ``ratio`` · p) is undecided too, and looked at again: the
 distance field is exact to about a node, and a shallow maximum between the
 bodies can hide in that node. The n = 4 arrowhead at Ψ = 173.125° on 97
 cells was cut so, its wings judged against each other where the finer
-windows see a tip between them (one body by the rule); such a neck is never
-taken for a waist, since a narrow neck keeps its width in b on every window.
+windows see a tip between them, joined to each wing by a waist (one body,
+as a brute-force raster finds); such a neck is never taken for a waist,
+since a narrow neck keeps its width in b on every window.
 At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
