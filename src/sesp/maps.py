@@ -153,7 +153,7 @@ from .orientations import ANGLE_GAP, SCREEN_SLACK
 from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
-from .topology import RESOLVED_PEAK, components, distance_to_complement, opening_family, renumbered
+from .topology import PINCH_RATIO, RESOLVED_PEAK, components, distance_to_complement, opening_family, renumbered
 
 __all__ = [
     "MapComponent",
@@ -188,7 +188,6 @@ UNDECIDED = 0.8
 # An undecided neck that keeps at least this share of its width (b) when the cells shrink ``zoom`` times is a
 # waist of one body (a pinch behind a wedge keeps its width in nodes: its share is about 1 / zoom).
 WAIST = 0.6
-_RATIO = 0.5  # the pinch rule's ratio (:func:`sesp.topology.components`' default, which the maps use)
 _SHARED = 0.25  # of its main component's nodes: a finer piece holding this much of another joins it
 _THIN = 2.0  # nodes: at the floor, parts less deep than this that join deeper ones are joins the floor cannot judge
 # A thin cluster beyond _THIN nodes from the deep part, of more nodes than this times the component's depth
@@ -574,7 +573,7 @@ def _waists(found, necks_above, h, excluded, dist):
     for row in found.necks:
         node, a, b, s = int(row[0]), int(row[1]), int(row[2]), row[3]
         coarse = necks_above.flat[node]
-        wide = a and b and a != b and s >= _RATIO * min(found.peaks[a - 1], found.peaks[b - 1])
+        wide = a and b and a != b and s >= PINCH_RATIO * min(found.peaks[a - 1], found.peaks[b - 1])
         if wide and coarse > 0 and s * h >= WAIST * coarse:
             merged[merged == merged[b]] = merged[a]
         else:

@@ -98,6 +98,7 @@ QUANTITIES = ("excluded", "allowed", "entangled")
 # Inscribed radius, in node spacings, below which a component is near the
 # grid's reach: twice the default ``min_peak`` of :func:`components`.
 RESOLVED_PEAK = 4.0
+PINCH_RATIO = 0.5  # a neck under this times the smaller body's inscribed radius parts two bodies
 
 
 @dataclass(frozen=True)
@@ -166,7 +167,7 @@ def components(
     periodic=(),
     outside: bool = False,
     measure: float = 1.0,
-    ratio: float = 0.5,
+    ratio: float = PINCH_RATIO,
     min_peak: float = 2.0,
     neck: float = 0.0,
     distance=None,
@@ -555,7 +556,7 @@ class AxisProfile:
         """
         return _axis_radii(self.x, self.half_width)
 
-    def components(self, ratio: float = 0.5, min_nodes: int = 2) -> list:
+    def components(self, ratio: float = PINCH_RATIO, min_nodes: int = 2) -> list:
         """Robust components along the axis: list of (x_low, x_high, peak radius, nodes).
 
         The 1D form of the persistence count (module notes) on the inscribed
