@@ -14,7 +14,7 @@ from sesp.cli import main
 from sesp.dataset import SespFileError
 from sesp.io import load, save
 from sesp.kernels.orientations import widest_windows
-from sesp.maps import ExcludedMap, excluded_map, map_transitions, widest_window
+from sesp.maps import ExcludedMap, centre_pinch, excluded_map, map_transitions, widest_window
 from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
 from sesp.pair import as_pair
 from sesp.report import format_map_transitions, map_change
@@ -140,18 +140,34 @@ def test_asp_map_counts_two_at_30_degrees_with_the_lens_right_of_the_centre():
 
 
 @pytest.mark.parametrize("base", [48, 49])
-def test_a_lens_one_node_thick_at_the_floor_joined_at_the_pinch_is_marked(base):
+def test_a_lens_one_node_thick_at_the_floor_is_parted_from_the_body_at_the_centre_s_pinch(base):
     """At 170° the ASP's lens has inscribed radius 1 − sin(Ψ/2) = 0.0038 b; with a floor of 2e-3 b the finest
-    cells are 0.0032 b and the lens is one node thick on them. It meets the body at the particle's centre,
-    where every base grid has a node: on those cells the pinch cannot be told from a waist, so the map finds
-    one component spanning lens and body (x from −2cos(Ψ/2) to 2cos(Ψ/2)) and marks it ``floor``, rather than
-    a count of 1 that looks resolved."""
+    cells are 0.0032 b and the lens is one node thick on them. It meets the body only at the particle's
+    centre, whose column x = 0 is certified allowed above and below (``centre_pinch``), so lens and body are
+    two components on either base grid: the lens on x > 0, marked ``floor`` (one node thick), its area
+    within 15 % of the exact (π − Ψ) − sin Ψ (cells of 0.0032 b counted by their centres on a lens 0.0076 b
+    thick); the body not marked. Before the centre's pinch was certified, the map saw one component spanning
+    both, marked ``floor``."""
     psi = math.radians(170)
     found = excluded_map(SeSP(n=2, opening=psi), base=base, floor=2e-3)
     assert found.finest > 1 - math.sin(psi / 2) - found.finest / 2
-    reach = 2 * math.cos(psi / 2)
-    assert found.count == 1 and found.limit(found.components[0]) == "floor"
-    assert found.components[0].bbox[:2] == pytest.approx((-reach, reach), abs=found.finest)
+    assert found.count == 2
+    body, lens = found.components
+    assert lens.bbox[0] > 0 > body.bbox[1]
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.15)
+    assert found.limit(lens) == "floor" and found.limit(body) == ""
+
+
+def test_the_centre_is_a_certified_pinch_for_0_to_pi_and_not_beyond():
+    """The column x = 0 is certified allowed around the excluded centre for the ASP and n = 4, 8 between a few
+    degrees and π, over at least the 3 base cells asked for; past π the centre is allowed (no pinch)."""
+    for n in (2, 4, 8):
+        for degrees in (30, 150, 179):
+            pair = as_pair(SeSP(n=n, opening=math.radians(degrees)))
+            assert centre_pinch(pair, 1e-4, 0.1) >= 0.1, (n, degrees)
+        assert centre_pinch(as_pair(SeSP(n=n, opening=math.radians(181))), 1e-4, 0.1) == 0.0
+    needle = Polyline([[0.0, -1.0], [0.0, 1.0]])  # along x = 0: the column is excluded, the centre no pinch
+    assert centre_pinch(as_pair(needle), 1e-4, 0.1) == 0.0
 
 
 @pytest.mark.parametrize("base", [64, 65])

@@ -195,6 +195,8 @@ _THIN = 2.0  # nodes: at the floor, parts less deep than this that join deeper o
 # more is shorter than 4 depths): the ASP's lens at 170° on cells of 0.0032 b, 100 nodes long, 1 thick.
 _THIN_TAIL = 4.0
 _SLIVER = 2.0  # nodes: an allowed cluster enclosed by a component and no deeper than this is a sliver's trace
+_CENTRE_CELLS = 3  # base cells above and below the centre over which the column x = 0 is certified (centre_pinch)
+_CENTRE_PROBES = 5000  # positions on that column at most
 
 
 def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
@@ -402,6 +404,7 @@ class _Context:
     bar: object
     positions: int = 0
     finest: float = math.inf
+    centre: float = 0.0  # b: half-length of the column x = 0 certified allowed around the centre's pinch; 0: none
 
 
 def excluded_map(
@@ -448,7 +451,7 @@ def excluded_map(
     # mirror-symmetric pair's excluded set lie on them (the wedge at x = 0 that parts lens and body for small Ψ).
     start = -(base // 2 + 0.5) * h
     with progress_bar(None, progress, "map", unit="pos") as bar:
-        ctx = _Context(pair, floor, zoom, bar)
+        ctx = _Context(pair, floor, zoom, bar, centre=centre_pinch(pair, floor, _CENTRE_CELLS * h))
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
     found = sorted((_component(p) for p, _ in pieces if p is not None), key=lambda c: -c.area)
@@ -493,7 +496,75 @@ def _classify(ctx, x0, y0, h, evaluate, inherited):
     uncertain = np.zeros(evaluate.shape, dtype=bool)
     excluded[iy, ix] = width == 0.0
     uncertain[iy, ix] = (width > 0.0) & (clear - pair.contact <= half_diagonal)
+    if ctx.centre > 0.0:  # the centre's node is left out of E, a pinch; its cell (and any inherited) not certified
+        column = _centre_column(x0, y0, h, evaluate.shape, ctx.centre)
+        uncertain[column] |= excluded[column]
+        excluded[column] = False
     return excluded, uncertain & ~excluded
+
+
+def _centre_column(x0, y0, h, shape, half_length):
+    """Index of the window's nodes on x = 0 with |y| <= ``half_length`` (the centre's node among them), or
+    an empty selection if the window has no node column on x = 0."""
+    ix = int(round(-x0 / h - 0.5))
+    if not (0 <= ix < shape[1] and abs(x0 + (ix + 0.5) * h) <= 1e-6 * h):
+        return (np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64))
+    rows = np.flatnonzero(np.abs(y0 + (np.arange(shape[0]) + 0.5) * h) <= half_length)
+    return rows, np.full(len(rows), ix)
+
+
+def centre_pinch(pair, floor: float, reach: float) -> float:
+    """b: how far above and below the centre the column x = 0 is certified allowed when the centre is
+    excluded, so that the centre is a pinch (0 where it is not, or where that is not certified).
+
+    Where the centre (t = 0) is a point of E and the positions (0, y) are allowed for 0 < |y| <= Y, the
+    parts of E left and right of the centre meet, near it, at that point only: a single-point pinch,
+    which parts them by convention. It is certified, not sampled: at each position (0, y_k) of a
+    geometric sequence from ``floor`` / 10 to ``reach``, the curves at the middle of the widest window are
+    farther apart than c_k, so the disk of radius c_k around (0, y_k) is allowed (the clearance
+    certificate of the module notes), and the disks of successive positions overlap. Then the maps leave
+    the centre's node out of E and keep the column's nodes within Y of it out too (they are allowed: a
+    finer window that inherits a coarser cell's flags could otherwise take them for excluded), so the
+    two sides are told apart at the centre on every window and grid, however thin they are there, rather
+    than by the persistence rule. The ASP's lens and body meet so for every 0 < Ψ < π, and so do the
+    parts left and right of the centre for n = 4, 8, 10 (the curves' distance grows as c ≈ κ·|y| along
+    the column, κ from about 0.08 at Ψ = 30° to 1 near π). Where κ is so small that more than
+    ``_CENTRE_PROBES`` positions would be needed (Ψ of a degree or two), nothing is certified and the
+    persistence rule decides, as elsewhere.
+    """
+    width, _, _ = widest_windows(
+        pair.vertices1, pair.vertices2, np.zeros(1), np.zeros(1), SCREEN_SLACK, ANGLE_GAP, pair.contact
+    )
+    if width[0] > 0.0:
+        return 0.0
+    low = floor / 10
+    coarse = np.geomspace(low, reach, 33)
+    coarse = np.concatenate([coarse, -coarse])
+    kappa = float(np.min(_column_clearance(pair, coarse, np.abs(coarse)) / np.abs(coarse)))
+    if not kappa > 0.0:
+        return 0.0
+    ratio = 1.0 + 0.5 * kappa
+    count = int(math.ceil(math.log(reach / low) / math.log(ratio))) + 1
+    if count > _CENTRE_PROBES:
+        return 0.0
+    ys = low * ratio ** np.arange(count + 1)
+    for sign in (1.0, -1.0):
+        c = _column_clearance(pair, sign * ys, ys * (ratio - 1.0))  # a disk that wide reaches the next position
+        covered = (c[:-1] > 0.0) & (ys[:-1] + c[:-1] >= ys[1:] - c[1:])
+        if not (c[-1] > 0.0 and covered.all()):
+            return 0.0
+    return float(ys[-1])
+
+
+def _column_clearance(pair, ys, caps):
+    """Radius (b) of the disk certified allowed around each position (0, y), at most ``caps``: the curves'
+    distance at the best orientation sampled across the widest window, less the contact distance; 0 where
+    the position is excluded."""
+    width, _, clear = widest_windows(
+        pair.vertices1, pair.vertices2, np.zeros(len(ys)), np.asarray(ys, dtype=float), SCREEN_SLACK, ANGLE_GAP,
+        pair.contact, np.asarray(caps, dtype=float),
+    )  # fmt: skip
+    return np.where(width > 0.0, clear - pair.contact, 0.0)
 
 
 def _disk(radius):
