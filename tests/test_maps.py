@@ -14,7 +14,16 @@ from sesp.cli import main
 from sesp.dataset import SespFileError
 from sesp.io import load, save
 from sesp.kernels.orientations import widest_windows
-from sesp.maps import ExcludedMap, centre_pinch, excluded_map, map_transitions, widest_window
+from sesp.maps import (
+    SPECK_GAP,
+    ExcludedMap,
+    MapComponent,
+    centre_pinch,
+    excluded_map,
+    joined_specks,
+    map_transitions,
+    widest_window,
+)
 from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
 from sesp.pair import as_pair
 from sesp.report import format_map_transitions, map_change
@@ -533,7 +542,9 @@ def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, caps
                                                                           b.touches_floor)  # fmt: skip
         assert back.limit(a) == found.limit(b)
         assert len(a.x) > 0 and all(np.array_equal(getattr(a, k), getattr(b, k)) for k in ("x", "y", "cell"))
-    assert (back.departure, back.floor, back.base_cells) == (found.departure, found.floor, 48)
+    assert (back.departure, back.floor, back.base_cells, back.centre) == (found.departure, found.floor, 48,
+                                                                        found.centre)  # fmt: skip
+    assert found.centre > 0  # the ASP's centre is a certified pinch
     assert back.pair.departure == found.departure and back.pair.particle == ASP90
     assert main(["info", str(path)]) == 0
     assert "2 components" in capsys.readouterr().out
@@ -621,3 +632,45 @@ def test_a_crescent_whose_ridge_dips_is_one_component():
     width, _ = widest_window(particle, *np.meshgrid(x, y))
     raster = np.count_nonzero(width == 0) * (x[1] - x[0]) * (y[1] - y[0])
     assert upper.area == pytest.approx(raster, rel=0.03)
+
+
+def _blob(x0, y0, cell, n, radius, floor=True):
+    """A synthetic map component: n nodes in a row from (x0, y0), spaced one ``cell``."""
+    x = x0 + cell * np.arange(n)
+    y = np.full(n, float(y0))
+    return MapComponent(n * cell * cell, radius, (x[0], x[-1], y0, y0), floor, x, y, np.full(n, cell))
+
+
+def test_specks_of_the_floor_join_one_another_and_the_nearest_body_never_two():
+    """Specks (seen only at the floor, under RESOLVED_PEAK cells deep) within SPECK_GAP floor cells of one
+    another are one part, which joins the nearest thicker component within that distance, and only that one;
+    a speck farther than that from everything stays a component; nothing joins across the centre's pinch."""
+    floor, cell = 1e-4, 1.5e-4  # a floor cell: between the floor and zoom times it
+    body_a = _blob(-1.0, 0.0, cell, 40, 10 * cell, floor=False)  # x from -1 to -1 + 39 cells
+    body_b = _blob(-1.0 + 43 * cell, 0.0, cell, 40, 10 * cell, floor=False)  # 4 cells right of body_a
+    bridge = _blob(-1.0 + 40.8 * cell, 0.0, cell, 1, 0.5 * cell)  # 1.8 cells from body_a, 2.2 from body_b
+    near_a = _blob(-1.0 + 10 * cell, 2 * cell, cell, 2, 0.5 * cell)  # 2 cells above body_a
+    chain = _blob(-1.0 + 10 * cell, 9 * cell, cell, 1, 0.5 * cell)  # 9 cells above body_a, 7 above near_a
+    alone = _blob(0.5, 0.5, cell, 3, 0.5 * cell)
+    assert SPECK_GAP < 9
+    found = joined_specks([body_a, body_b, bridge, near_a, chain, alone], floor)
+    assert sorted(len(c.x) for c in found) == [3, 40, 44]  # body_a with bridge, near_a, chain; body_b; alone
+    joined = next(c for c in found if len(c.x) == 44)
+    assert joined.touches_floor and np.isclose(joined.bbox[0], -1.0) and joined.bbox[1] < body_b.bbox[0]
+    assert not next(c for c in found if len(c.x) == 40).touches_floor
+    # across the centre's certified column a speck one cell away stays apart
+    left, right = _blob(-21 * cell, 0.0, cell, 20, 5 * cell, floor=False), _blob(cell, 0.0, cell, 1, 0.5 * cell)
+    assert len(joined_specks([left, right], floor, centre=0.01)) == 2
+    assert len(joined_specks([left, right], floor, centre=0.0)) == 1
+
+
+@pytest.mark.parametrize("base", [97, 128])
+def test_the_n4_body_s_horn_tips_are_no_specks_of_their_own(base):
+    """At Ψ = 0.3125° the n = 4 body's horns end near (1.98, ±0.58) b in strips about 4e-4 b wide, which the
+    floor's cells (1.6e-4 and 2.1e-4 b) sample in pieces; a brute-force raster on cells of 5e-5 b finds the
+    strip in one piece. The map counts lens and body only, on either base grid (before: 8 on 128 cells)."""
+    found = excluded_map(SeSP(n=4, opening=math.radians(0.3125)), base=base, floor=1e-4)
+    assert found.count == 2
+    x, y = np.meshgrid(1.9796 + np.linspace(-0.002, 0.002, 41), 0.5842 + np.linspace(-0.002, 0.002, 41))
+    width, _ = widest_window(SeSP(n=4, opening=math.radians(0.3125)), x, y)
+    assert ndimage.label(width == 0, np.ones((3, 3)))[1] == 1

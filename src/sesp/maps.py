@@ -92,8 +92,39 @@ since a narrow neck keeps its width in b on every window.
 At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
-ASP's split as Ψ → 0⁺, its body and lens near π) is never decided. Both
-bodies are then marked ``touches_floor``: the split is the floor's.
+ASP's split as Ψ → 0⁺) is never decided. Both bodies are then marked
+``touches_floor``: the split is the floor's.
+
+The centre's pinch is certified instead (:func:`centre_pinch`). Where the
+particles' centres coincide (t = 0) the position is excluded for every
+0 < Ψ < π of the SeSPs tried, and the parts of E left and right of it meet
+there in thin wedges along the axis, one node thick on every grid near π:
+the rule cannot judge them at any floor. But the column x = 0 above and
+below the centre is allowed, and that is proven with clearance disks that
+overlap from a tenth of the floor to three base cells. The two sides then
+meet near the centre at that single point, so the map leaves the centre's
+node out of E (and the column's nodes within the certified stretch, which a
+finer window might inherit as excluded), and refines its cell as
+uncertain: every base grid and every finer window has a node there, so the
+two sides are apart on all of them (the ASP's lens at Ψ = 170° at a floor
+of 2e-3 b, one node thick: its own component on 48 and 49 cells, where the
+rule saw one with the body, marked ``floor``). Where the column cannot be
+certified within ``_CENTRE_PROBES`` positions (the curves' distance along
+it grows as κ·|y| with κ under about 1e-3, Ψ of a few degrees), the rule
+judges the centre like any other neck.
+
+Thin parts at the floor are sampled, not followed: a strip thinner than
+the floor's cells holds a node only here and there, so it is found as a
+chain of specks one or two nodes across, a few cells apart, whose number
+and places change with the grid (the n = 4 body's horn tips near
+(1.98, ±0.58) b at Ψ = 0.3°: six specks on 128 base cells, none on 97).
+So the specks of the floor (components seen only at the floor, thinner
+than ``RESOLVED_PEAK`` of its cells) that lie within ``SPECK_GAP`` (8)
+floor cells of one another are one part, and a part within that distance
+of a thicker component is counted with the nearest one (never with two:
+thick bodies are not joined through specks, nor across the centre's
+certified pinch); only a part with no component that near is counted on
+its own, marked ``touches_floor`` like every component it joins.
 
 Refinement
 ----------
@@ -138,12 +169,13 @@ next cells would be smaller than ``floor``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 from scipy import ndimage
+from scipy.spatial import cKDTree
 
 from .checks import check_count, check_range
 from .dataset import SespFileError, base_attrs, format_of, pair_attrs, pair_of
@@ -197,6 +229,7 @@ _THIN_TAIL = 4.0
 _SLIVER = 2.0  # nodes: an allowed cluster enclosed by a component and no deeper than this is a sliver's trace
 _CENTRE_CELLS = 3  # base cells above and below the centre over which the column x = 0 is certified (centre_pinch)
 _CENTRE_PROBES = 5000  # positions on that column at most
+SPECK_GAP = 8.0  # floor cells: specks of the floor this close to one another or to a component are one part with it
 
 
 def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
@@ -280,6 +313,7 @@ class ExcludedMap:
     departure: float = 0.0  # b: how far the polylines depart from the curves (:attr:`sesp.Pair.departure`)
     zoom: int = ZOOM
     pair: object = field(default=None, repr=False, compare=False)  # the Pair mapped (None: read from a file)
+    centre: float = 0.0  # b: the column x = 0 certified allowed this far around the centre's pinch (0: none)
 
     @property
     def count(self) -> int:
@@ -358,7 +392,7 @@ class ExcludedMap:
                 ds.touches_floor.values, ds.encloses_slivers.values,
             ), start=1)
         ]  # fmt: skip
-        values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items()}
+        values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items() if name in ds.attrs}
         return cls(comps, **values, pair=pair_of(ds) if "particle_kind" in ds.attrs else None)
 
 
@@ -371,6 +405,7 @@ _MAP_ATTRS = {
     "finest": float,
     "departure": float,
     "zoom": int,
+    "centre": float,  # absent from maps saved before the centre's pinch was certified
 }
 
 
@@ -454,8 +489,84 @@ def excluded_map(
         ctx = _Context(pair, floor, zoom, bar, centre=centre_pinch(pair, floor, _CENTRE_CELLS * h))
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
-    found = sorted((_component(p) for p, _ in pieces if p is not None), key=lambda c: -c.area)
-    return ExcludedMap(found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair)
+    found = [_component(p) for p, _ in pieces if p is not None]
+    found = sorted(joined_specks(found, floor, zoom, ctx.centre), key=lambda c: -c.area)
+    return ExcludedMap(
+        found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre
+    )
+
+
+def _is_speck(component: MapComponent, floor: float, zoom: int) -> bool:
+    """Seen only at the floor (its finest cells could not be refined) and thinner than ``RESOLVED_PEAK`` of them."""
+    cell = float(component.cell.min())
+    return component.touches_floor and cell < zoom * floor and component.inscribed_radius < RESOLVED_PEAK * cell
+
+
+def joined_specks(found: list, floor: float, zoom: int = ZOOM, centre: float = 0.0) -> list:
+    """``found`` with the specks of the floor joined (module notes, "Components and the pinch rule").
+
+    Specks (:func:`_is_speck`) whose nodes come within ``SPECK_GAP`` floor cells of one another are one
+    part; each part within that distance of a component that is not a speck joins the nearest such one.
+    Two nodes on either side of the centre's certified column (|y| <= ``centre``, b) are never near. The
+    joined components are marked ``touches_floor``.
+    """
+    specks = [k for k, c in enumerate(found) if _is_speck(c, floor, zoom)]
+    if not specks:
+        return found
+    label = np.concatenate([np.full(len(c.x), k) for k, c in enumerate(found)])
+    points = np.column_stack([np.concatenate([c.x for c in found]), np.concatenate([c.y for c in found])])
+    tree = cKDTree(points)
+    parent = list(range(len(found)))
+
+    def root(k):
+        while parent[k] != k:
+            k = parent[k]
+        return k
+
+    nearest = {}  # speck -> (distance, nearest component that is not a speck)
+    for k in specks:
+        mine = np.flatnonzero(label == k)
+        reach = SPECK_GAP * float(found[k].cell.min())
+        for i, near in zip(mine, tree.query_ball_point(points[mine], reach)):
+            near = np.asarray(near, dtype=np.int64)
+            near = near[(label[near] != k) & ~_across_centre(points[i], points[near], centre)]
+            for j in near:
+                other = int(label[j])
+                if other in specks:
+                    parent[root(other)] = root(k)
+                else:
+                    d = float(np.hypot(*(points[j] - points[i])))
+                    if d < nearest.get(k, (math.inf, None))[0]:
+                        nearest[k] = (d, other)
+    groups = {}
+    for k in specks:
+        groups.setdefault(root(k), []).append(k)
+    into = {}
+    for members in groups.values():
+        best = min((nearest[k] for k in members if k in nearest), default=None, key=lambda v: v[0])
+        for k in members:
+            into[k] = members[0] if best is None else best[1]
+    out = {}
+    for k, c in enumerate(found):
+        target = into.get(k, k)
+        out[target] = c if target not in out else _merged(out[target], c)
+    return [replace(c, touches_floor=True) if any(into.get(k) == t for k in into) else c for t, c in out.items()]
+
+
+def _across_centre(point, others, centre):
+    """Whether the segment from ``point`` to each of ``others`` crosses x = 0 within the certified stretch."""
+    if centre <= 0.0:
+        return np.zeros(len(others), dtype=bool)
+    return (point[0] * others[:, 0] <= 0.0) & (abs(point[1]) <= centre) & (np.abs(others[:, 1]) <= centre)
+
+
+def _merged(a: MapComponent, b: MapComponent) -> MapComponent:
+    box = (min(a.bbox[0], b.bbox[0]), max(a.bbox[1], b.bbox[1]), min(a.bbox[2], b.bbox[2]), max(a.bbox[3], b.bbox[3]))
+    return MapComponent(
+        a.area + b.area, max(a.inscribed_radius, b.inscribed_radius), box, True,
+        np.concatenate([a.x, b.x]), np.concatenate([a.y, b.y]), np.concatenate([a.cell, b.cell]),
+        a.encloses_slivers or b.encloses_slivers,
+    )  # fmt: skip
 
 
 def _component(piece: _Piece) -> MapComponent:
