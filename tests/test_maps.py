@@ -674,3 +674,14 @@ def test_the_n4_body_s_horn_tips_are_no_specks_of_their_own(base):
     x, y = np.meshgrid(1.9796 + np.linspace(-0.002, 0.002, 41), 0.5842 + np.linspace(-0.002, 0.002, 41))
     width, _ = widest_window(SeSP(n=4, opening=math.radians(0.3125)), x, y)
     assert ndimage.label(width == 0, np.ones((3, 3)))[1] == 1
+
+
+def test_a_thick_body_whose_tip_reaches_the_floor_is_not_unresolved_for_it():
+    """n = 4 at Ψ = 120° on 64 cells: the body (1.53 b², inscribed radius 0.5 b) tapers to horn tips that the
+    map follows to the floor, so it touches the floor; its count does not hang on the floor, so it is not
+    ``floor_limited`` and the map's two components are resolved."""
+    found = excluded_map(SeSP(n=4, opening=math.radians(120)), base=64, floor=1e-4)
+    assert found.count == 2
+    body = found.components[0]
+    assert body.touches_floor and not body.floor_limited
+    assert [found.limit(c) for c in found.components] == ["", ""]

@@ -87,6 +87,7 @@ OPTIONAL = {
     "entangled": (FIELD_DIMS, "b"),
     "allowed_fraction": (PLANE_DIMS, "f"),
     "classes": (PLANE_DIMS, "i"),
+    "floor_limited": (("component",), "b"),  # a sesp.map's: absent from maps saved before it was kept
     # a sesp.map's excluded nodes (b), their cell sides (b) and the component (1, 2, ...) each belongs to
     "node_x": (("node",), "f"),
     "node_y": (("node",), "f"),

@@ -24,13 +24,13 @@ where an excluded node was found inside it, so a component thinner than the
 finest cells it was looked for with (the floor) can be missed. On a window
 at the floor one excluded node is enough (coarser windows leave parts under
 two nodes thick to the finer ones): such a part is counted, and reported
-with ``touches_floor``, as is any component seen only at the floor. So is
-a component that, on a window at the floor, holds two deep parts (at least
-two nodes deep) joined only through thinner nodes, or a thin part longer
-than four times its depth beyond them: on those cells a pinch one node
-wide cannot be told from a waist (the ASP's lens at Ψ = 170° with a floor
-of 2e-3 b, one node thick, meets the body at the centre, where a node
-lies: one component, marked).
+``floor_limited`` (its count is the floor's), as is any component thinner
+than ``RESOLVED_PEAK`` of the floor's cells. So is a component that, on a
+window at the floor, holds two deep parts (at least two nodes deep) joined
+only through thinner nodes, or a thin part longer than four times its depth
+beyond them: on those cells a pinch one node wide cannot be told from a
+waist. ``touches_floor`` says less: some part of the component reached the
+floor (a thick body's tapering tip does), which leaves its count settled.
 
 Nor does an excluded node say how deep in E it lies: an allowed sliver
 thinner than the cells that no node falls in is invisible, and the bodies on
@@ -93,7 +93,7 @@ At the floor an undecided neck keeps the bodies apart:
 the finer windows around a neck are small, so the bodies' radii measured in
 them stay about as wide as the neck, and a pinch behind a thin wedge (the
 ASP's split as Ψ → 0⁺) is never decided. Both bodies are then marked
-``touches_floor``: the split is the floor's.
+``floor_limited``: the split is the floor's.
 
 The centre's pinch is certified instead (:func:`centre_pinch`). Where the
 particles' centres coincide (t = 0) the position is excluded for every
@@ -124,7 +124,7 @@ floor cells of one another are one part, and a part within that distance
 of a thicker component is counted with the nearest one (never with two:
 thick bodies are not joined through specks, nor across the centre's
 certified pinch); only a part with no component that near is counted on
-its own, marked ``touches_floor`` like every component it joins.
+its own, marked ``floor_limited``.
 
 Refinement
 ----------
@@ -210,7 +210,7 @@ _TAPER = 256.0  # a thick body's thin parts are refined until the cells are this
 MAX_WINDOW = 1 << 22  # nodes of a finer window at most: a larger cluster is left as at the floor
 # Smallest inscribed radius (nodes) of a component counted on a window at the floor; coarser windows need
 # 2 (thinner is left to the finer windows). At the floor there are none: a part one node thick is counted,
-# marked ``touches_floor``, rather than lost.
+# marked ``floor_limited``, rather than lost.
 _FLOOR_PEAK = 1.0
 _DEEP = 3.0  # coarse excluded nodes this many nodes inside the set are not classified again when refined
 # Necks s below this times the smaller body's inscribed radius p (and above the rule's ratio · p) are looked at
@@ -264,12 +264,9 @@ class MapComponent:
     bbox : (xmin, xmax, ymin, ymax)
         b: of its excluded nodes' cells.
     touches_floor : bool
-        It was seen thinner than ``RESOLVED_PEAK`` nodes on cells that could
-        not be refined further (the floor): it may be thinner than the floor.
-        Or it was kept apart from another at a neck still undecided at the
-        floor: it may be joined to it. Or, on cells at the floor, it holds
-        a part joined to the rest only through nodes under two nodes deep:
-        it may be two.
+        Some part of it was seen thinner than ``RESOLVED_PEAK`` nodes on
+        cells that could not be refined further (the floor; a thick body's
+        tapering tip is enough), or it is one of the components below.
     x, y, cell : ndarray
         Its excluded nodes (b) and their cell sides (b), for plotting.
     encloses_slivers : bool
@@ -278,6 +275,14 @@ class MapComponent:
         only where a node happened to fall in them. Slivers thinner than the
         cells may part it (the ASP's lens and body for small Ψ): it may be
         more than one component.
+    floor_limited : bool
+        Whether it counts as a component is the floor's verdict: it is
+        thinner than ``RESOLVED_PEAK`` of the floor's cells (it may be
+        thinner than the floor, or not there), or it was kept apart from
+        another at a neck still undecided at the floor (it may be joined to
+        it), or on cells at the floor it holds a part joined to the rest
+        only through nodes under two nodes deep (it may be two). A thick
+        body whose tip reaches the floor is not: its count is settled.
     """
 
     area: float
@@ -288,6 +293,7 @@ class MapComponent:
     y: np.ndarray = field(repr=False)
     cell: np.ndarray = field(repr=False)
     encloses_slivers: bool = False
+    floor_limited: bool = False
 
     def as_dict(self) -> dict:
         """JSON-ready: area, inscribed radius, bounding box, floor and sliver flags."""
@@ -296,6 +302,7 @@ class MapComponent:
             "inscribed_radius": self.inscribed_radius,
             "bbox": [float(v) for v in self.bbox],
             "touches_floor": self.touches_floor,
+            "floor_limited": self.floor_limited,
             "encloses_slivers": self.encloses_slivers,
         }
 
@@ -326,11 +333,11 @@ class ExcludedMap:
         return sum(1 for c in self.components if c.bbox[2] > 0.0 or c.bbox[3] < 0.0)
 
     def limit(self, component: MapComponent) -> str:
-        """What a component may be an artefact of: "floor" (seen only at the floor, or kept apart at a neck
-        still undecided there), "slivers" (it encloses allowed slivers seen at isolated nodes, which may part
-        it), "polylines" (thinner than the polylines depart from the curves: it may be theirs, not the
-        curves'), or "" (resolved)."""
-        if component.touches_floor:
+        """What a component may be an artefact of: "floor" (``floor_limited``: thinner than a few of the floor's
+        cells, or kept apart or joined at a neck the floor cannot judge), "slivers" (it encloses allowed
+        slivers seen at isolated nodes, which may part it), "polylines" (thinner than the polylines depart from
+        the curves: it may be theirs, not the curves'), or "" (resolved)."""
+        if component.floor_limited:
             return "floor"
         if component.encloses_slivers:
             return "slivers"
@@ -361,6 +368,7 @@ class ExcludedMap:
                     "component", np.array([c.inscribed_radius for c in comps], dtype=float), {"units": "b"}
                 ),
                 "touches_floor": flags("touches_floor"),
+                "floor_limited": flags("floor_limited"),
                 "encloses_slivers": flags("encloses_slivers"),
                 "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
                 "bbox": (("component", "side"), box, {"units": "b", "sides": "xmin xmax ymin ymax"}),
@@ -382,14 +390,15 @@ class ExcludedMap:
         def nodes(name, k):
             return ds[name].values[label == k] if name in ds else np.empty(0)
 
+        limited = ds.floor_limited.values if "floor_limited" in ds else ds.touches_floor.values  # older files
         comps = [
             MapComponent(
                 float(a), float(r), tuple(float(v) for v in box), bool(f),
-                nodes("node_x", k), nodes("node_y", k), nodes("node_cell", k), bool(s),
+                nodes("node_x", k), nodes("node_y", k), nodes("node_cell", k), bool(s), bool(lim),
             )
-            for k, (a, r, box, f, s) in enumerate(zip(
+            for k, (a, r, box, f, s, lim) in enumerate(zip(
                 ds.area.values, ds.inscribed_radius.values, ds.bbox.values.reshape(-1, 4),
-                ds.touches_floor.values, ds.encloses_slivers.values,
+                ds.touches_floor.values, ds.encloses_slivers.values, limited,
             ), start=1)
         ]  # fmt: skip
         values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items() if name in ds.attrs}
@@ -419,6 +428,7 @@ class _Piece:
     peak: float
     floor: bool
     slivers: bool = False
+    split: bool = False  # kept apart or joined where the floor cannot judge (MapComponent.floor_limited)
 
     def joined(self, other: _Piece) -> _Piece:
         return _Piece(
@@ -428,6 +438,7 @@ class _Piece:
             max(self.peak, other.peak),
             self.floor or other.floor,
             self.slivers or other.slivers,
+            self.split or other.split,
         )
 
 
@@ -489,7 +500,7 @@ def excluded_map(
         ctx = _Context(pair, floor, zoom, bar, centre=centre_pinch(pair, floor, _CENTRE_CELLS * h))
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
-    found = [_component(p) for p, _ in pieces if p is not None]
+    found = [_component(p, floor, zoom) for p, _ in pieces if p is not None]
     found = sorted(joined_specks(found, floor, zoom, ctx.centre), key=lambda c: -c.area)
     return ExcludedMap(
         found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre
@@ -508,7 +519,8 @@ def joined_specks(found: list, floor: float, zoom: int = ZOOM, centre: float = 0
     Specks (:func:`_is_speck`) whose nodes come within ``SPECK_GAP`` floor cells of one another are one
     part; each part within that distance of a component that is not a speck joins the nearest such one.
     Two nodes on either side of the centre's certified column (|y| <= ``centre``, b) are never near. The
-    joined components are marked ``touches_floor``.
+    joined components are marked ``touches_floor``; a part of specks alone is ``floor_limited``, and a thick
+    component keeps its own mark.
     """
     specks = [k for k, c in enumerate(found) if _is_speck(c, floor, zoom)]
     if not specks:
@@ -550,7 +562,11 @@ def joined_specks(found: list, floor: float, zoom: int = ZOOM, centre: float = 0
     for k, c in enumerate(found):
         target = into.get(k, k)
         out[target] = c if target not in out else _merged(out[target], c)
-    return [replace(c, touches_floor=True) if any(into.get(k) == t for k in into) else c for t, c in out.items()]
+    # a body counts with the specks it took in as it did alone; a part of specks alone is the floor's
+    return [
+        replace(c, touches_floor=True, floor_limited=found[t].floor_limited) if t in into.values() else c
+        for t, c in out.items()
+    ]
 
 
 def _across_centre(point, others, centre):
@@ -565,11 +581,11 @@ def _merged(a: MapComponent, b: MapComponent) -> MapComponent:
     return MapComponent(
         a.area + b.area, max(a.inscribed_radius, b.inscribed_radius), box, True,
         np.concatenate([a.x, b.x]), np.concatenate([a.y, b.y]), np.concatenate([a.cell, b.cell]),
-        a.encloses_slivers or b.encloses_slivers,
+        a.encloses_slivers or b.encloses_slivers, a.floor_limited or b.floor_limited,
     )  # fmt: skip
 
 
-def _component(piece: _Piece) -> MapComponent:
+def _component(piece: _Piece, floor: float, zoom: int) -> MapComponent:
     half = 0.5 * piece.cell
     bbox = (
         float((piece.x - half).min()),
@@ -577,9 +593,12 @@ def _component(piece: _Piece) -> MapComponent:
         float((piece.y - half).min()),
         float((piece.y + half).max()),
     )
+    cell = float(piece.cell.min())
+    thin = piece.floor and cell < zoom * floor and piece.peak < RESOLVED_PEAK * cell
     return MapComponent(
-        float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor, piece.x, piece.y, piece.cell, piece.slivers
-    )
+        float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor or piece.split, piece.x, piece.y, piece.cell,
+        piece.slivers, piece.split or thin,
+    )  # fmt: skip
 
 
 def _classify(ctx, x0, y0, h, evaluate, inherited):
@@ -790,8 +809,9 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
                 y0 + (iy + 0.5) * h,
                 np.full(len(ix), h),
                 (peak - 0.5) * h,
-                (at_floor and (peak < RESOLVED_PEAK or k in undecided)) or bool((mine & stopped).any()),
+                at_floor and peak < RESOLVED_PEAK,
                 k in slivers,
+                (at_floor and k in undecided) or bool((mine & stopped).any()),
             )
         local[k] = (piece, owners)
     return local
