@@ -168,8 +168,9 @@ def test_a_lens_one_node_thick_at_the_floor_is_parted_from_the_body_at_the_centr
 
 
 def test_the_centre_is_a_certified_pinch_for_0_to_pi_and_not_beyond():
-    """The column x = 0 is certified allowed around the excluded centre for the ASP and n = 4, 8 between a few
-    degrees and π, over at least the 3 base cells asked for; past π the centre is allowed (no pinch)."""
+    """The column x = 0 is certified allowed around the excluded centre for the ASP and n = 4, 8 (from about 10°,
+    5° for n = 4, up to π; checked at 30°, 150°, 179°), over at least the 3 base cells asked for; past π the
+    centre is allowed (no pinch)."""
     for n in (2, 4, 8):
         for degrees in (30, 150, 179):
             pair = as_pair(SeSP(n=n, opening=math.radians(degrees)))

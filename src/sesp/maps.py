@@ -110,7 +110,7 @@ two sides are apart on all of them (the ASP's lens at Ψ = 170° at a floor
 of 2e-3 b, one node thick: its own component on 48 and 49 cells, where the
 rule saw one with the body, marked ``floor``). Where the column cannot be
 certified within ``_CENTRE_PROBES`` positions (the curves' distance along
-it grows as κ·|y| with κ under about 1e-3, Ψ of a few degrees), the rule
+it grows as κ·|y| with κ under about 1e-3: Ψ below 10° for n = 2, 8, 10, below 5° for n = 4), the rule
 judges the centre like any other neck.
 
 Thin parts at the floor are sampled, not followed: a strip thinner than
@@ -659,7 +659,7 @@ def centre_pinch(pair, floor: float, reach: float) -> float:
     than by the persistence rule. The ASP's lens and body meet so for every 0 < Ψ < π, and so do the
     parts left and right of the centre for n = 4, 8, 10 (the curves' distance grows as c ≈ κ·|y| along
     the column, κ from about 0.08 at Ψ = 30° to 1 near π). Where κ is so small that more than
-    ``_CENTRE_PROBES`` positions would be needed (Ψ of a degree or two), nothing is certified and the
+    ``_CENTRE_PROBES`` positions would be needed (Ψ below 5° to 10°), nothing is certified and the
     persistence rule decides, as elsewhere.
     """
     width, _, _ = widest_windows(
