@@ -509,8 +509,13 @@ def excluded_map(
 
 def _is_speck(component: MapComponent, floor: float, zoom: int) -> bool:
     """Seen only at the floor (its finest cells could not be refined) and thinner than ``RESOLVED_PEAK`` of them."""
-    cell = float(component.cell.min())
-    return component.touches_floor and cell < zoom * floor and component.inscribed_radius < RESOLVED_PEAK * cell
+    return component.touches_floor and _thin_at_floor(component.inscribed_radius, component.cell, floor, zoom)
+
+
+def _thin_at_floor(radius, cells, floor, zoom) -> bool:
+    """Whether a part of inscribed ``radius`` (b), finest cells at the floor, is under ``RESOLVED_PEAK`` cells."""
+    cell = float(cells.min())
+    return cell < zoom * floor and radius < RESOLVED_PEAK * cell
 
 
 def joined_specks(found: list, floor: float, zoom: int = ZOOM, centre: float = 0.0) -> list:
@@ -593,8 +598,7 @@ def _component(piece: _Piece, floor: float, zoom: int) -> MapComponent:
         float((piece.y - half).min()),
         float((piece.y + half).max()),
     )
-    cell = float(piece.cell.min())
-    thin = piece.floor and cell < zoom * floor and piece.peak < RESOLVED_PEAK * cell
+    thin = piece.floor and _thin_at_floor(piece.peak, piece.cell, floor, zoom)
     return MapComponent(
         float(np.sum(piece.cell**2)), piece.peak, bbox, piece.floor or piece.split, piece.x, piece.y, piece.cell,
         piece.slivers, piece.split or thin,
