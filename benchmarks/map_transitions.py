@@ -5,7 +5,8 @@ each change bisected to ±0.005 rad), once on each base grid; prints the
 brackets side by side, whether they are identical, and the time of each
 search; saves each search as ``map_transitions_n{n}_base{b}.nc`` in
 ``--out``. A bracket is marked * where it is unresolved
-(``transition_unresolved``: a component at an end is seen only at the
+(``transition_unresolved``: a component that changes in it, parting,
+joining, appearing, vanishing or leaving the axis, is seen only at the
 floor, encloses allowed slivers that may part it, or is thinner than the
 polylines depart from the curves), and the brackets not marked on either
 grid are compared too.
@@ -13,12 +14,13 @@ grid are compared too.
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
         [--floor 1e-7] [--out DIR] [--reuse]
 
-``--reuse`` reads a search already saved in ``--out`` (same n and base)
-instead of running it again, with the time it took then; so the two base
-grids can be searched by two processes at once (``--bases 128 128`` and
-``--bases 97 97``) and the table printed afterwards. Each map is also saved
-as it is made, in ``--out/maps_n{n}_base{b}/``: a search stopped part way
-resumes from them when run again (its time is then that of the last run).
+Each map is saved as it is made, in ``--out/maps_n{n}_base{b}/``: a search
+stopped part way resumes from them when run again (its time is then that of
+the last run). ``--reuse`` takes a search already saved in ``--out`` (same n
+and base) from those maps, with the time it took then, instead of making
+them again; so the two base grids can be searched by two processes at once
+(``--bases 128 128`` and ``--bases 97 97``) and the table printed
+afterwards, and the brackets' marks are those of the code that prints them.
 """
 
 import argparse
@@ -30,7 +32,6 @@ import xarray as xr
 from _common import machine, table
 
 from sesp import SeSP, map_transitions
-from sesp.pair import as_pair
 from sesp.report import map_change
 
 
@@ -43,19 +44,9 @@ def brackets(result):
     ]
 
 
-def unresolved(result, n):
-    """Per transition: whether a component at either end is unresolved (seen only at the floor, or thinner
-    than the polylines depart from the curves). Searches saved before the dataset carried
-    ``transition_unresolved`` get it from their per-component radii and floor flags."""
-    if "transition_unresolved" in result:
-        return [bool(v) for v in result.transition_unresolved.values]
-
-    def at(opening):
-        row = result.sel(opening=opening)
-        departure = as_pair(SeSP(n=n, opening=float(opening))).departure
-        return bool((row.touches_floor | (row.inscribed_radius < departure)).any())
-
-    return [at(lo) or at(hi) for lo, hi in zip(result.low.values, result.high.values)]
+def unresolved(result):
+    """Per transition: whether a component that changes in it is unresolved (``transition_unresolved``)."""
+    return [bool(v) for v in result.transition_unresolved.values]
 
 
 def main():
@@ -79,24 +70,22 @@ def main():
         found, seconds, flagged = {}, {}, {}
         for base in dict.fromkeys(args.bases):  # a base given twice is searched once
             path = args.out / f"map_transitions_n{n:g}_base{base}.nc"
-            if args.reuse and path.exists():
-                result = xr.load_dataset(path)
-            else:
-                t0 = time.perf_counter()
-                result = map_transitions(
-                    SeSP(n=n),
-                    (math.radians(args.low), math.radians(args.top)),
-                    step=math.radians(args.step),
-                    base=base,
-                    floor=args.floor,
-                    progress=True,
-                    folder=args.out / f"maps_n{n:g}_base{base}",
-                )
-                result.attrs["seconds"] = time.perf_counter() - t0
-                result.to_netcdf(path)
+            saved = xr.load_dataset(path) if args.reuse and path.exists() else None
+            t0 = time.perf_counter()
+            result = map_transitions(
+                SeSP(n=n),
+                (math.radians(args.low), math.radians(args.top)),
+                step=math.radians(args.step),
+                base=base,
+                floor=args.floor,
+                progress=saved is None,
+                folder=args.out / f"maps_n{n:g}_base{base}",
+            )
+            result.attrs["seconds"] = saved.attrs["seconds"] if saved is not None else time.perf_counter() - t0
+            result.to_netcdf(path)
             seconds[base] = result.attrs["seconds"]
             found[base] = brackets(result)
-            flagged[base] = unresolved(result, n)
+            flagged[base] = unresolved(result)
         a, b = (found[base] for base in args.bases)
         rows = []
         for k in range(max(len(a), len(b))):
@@ -118,8 +107,9 @@ def main():
             rows, ["n", f"change {b1}", f"bracket {b1} (deg)", "width", f"change {b2}", f"bracket {b2} (deg)", "width"]
         )
     verdict = "yes" if same_everywhere else "no"
-    print("\n* unresolved: a component at an end of the bracket is seen only at the floor, encloses allowed slivers")
-    print("  that may part it, or is thinner than the polylines depart from the curves (ExcludedMap.limit)")
+    print("\n* unresolved: a component that changes in the bracket (sesp.maps.changed_components) is seen only at")
+    print("  the floor, encloses allowed slivers that may part it, or is thinner than the polylines depart from the")
+    print("  curves (ExcludedMap.limit)")
     print(f"all brackets identical on base grids {args.bases[0]} and {args.bases[1]}: {verdict}")
     print(f"brackets not marked * identical on both: {'yes' if same_resolved else 'no'}")
 

@@ -1,5 +1,6 @@
 """Adaptive maps exact in φ: the widest window, the clearance certificate, components against exact sets."""
 
+import dataclasses
 import functools
 import json
 import math
@@ -531,6 +532,34 @@ def test_transition_search_sees_changes_that_leave_the_count_unchanged_over_a_st
     assert both.sizes["transition"] == 1 and map_change(both, 0) == "2 -> 2 (off axis 0 -> 2)"
     assert "2 -> 2 (off axis 0 -> 2) at Psi in" in format_map_transitions(both)
     assert map_change(result, 0) == "2 -> 1"
+
+
+def test_a_transition_is_unresolved_only_where_a_component_that_changes_is():
+    """Two maps a step apart: a resolved body parts in two, and a strip of the floor beside it moves a little
+    and stays: the body's parts are the change, the strip is not, and the transition is resolved. When the
+    strip vanishes instead, or leaves the axis, it changes, and the transition is unresolved."""
+    cell = 0.01
+    body = _blob(-0.5, 0.0, cell, 80, 0.2, floor=False)  # x from -0.5 to 0.29
+    left, right = _blob(-0.5, 0.0, cell, 38, 0.1, floor=False), _blob(-0.1, 0.0, cell, 39, 0.1, floor=False)
+    strip, moved, lifted = (
+        dataclasses.replace(_blob(x, y, cell, 20, 1e-4), floor_limited=True)
+        for x, y in ((0.5, 0.0), (0.505, 0.0), (0.5, 0.02))  # lifted: wholly above the axis, 2 cells up
+    )
+
+    def pair_of_maps(low, high):
+        return tuple(ExcludedMap(c, floor=1e-4, base_cells=32, reach=2.0, positions=1, finest=1e-4)
+                     for c in (low, high))  # fmt: skip
+
+    low, high = pair_of_maps([body, strip], [left, right, moved])
+    assert high.limit(moved) == "floor" and not high.limit(left)
+    assert [c.x.size for c in maps.changed_components(low, high)[0]] == [80]
+    assert [c.x.size for c in maps.changed_components(low, high)[1]] == [38, 39]
+    assert not maps._change_unresolved(low, high)
+    for high in ([left, right], [left, right, lifted]):
+        assert maps._change_unresolved(*pair_of_maps([body, strip], high))
+    # where none is found to change (the count did not either), any unresolved component marks it
+    assert maps.changed_components(*pair_of_maps([strip], [moved])) == ([], [])
+    assert maps._change_unresolved(*pair_of_maps([strip], [moved]))
 
 
 def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):

@@ -60,7 +60,9 @@ at Ψ = 179.375° (inscribed radius 1 − sin(Ψ/2) = 1.5e-5 b) is there with
 1024 segments and not with 256. So a component whose inscribed radius is
 smaller than the two polylines' departures summed (:attr:`sesp.Pair.departure`)
 is marked unresolved (:meth:`ExcludedMap.limit`), as is one seen only at the
-floor, and so is a transition with such a component at either end.
+floor, and so is a transition in which such a component changes (parts,
+joins, appears, vanishes or leaves the axis: :func:`changed_components`
+links each component to what overlaps it a step of Ψ away).
 
 Components and the pinch rule
 -----------------------------
@@ -175,6 +177,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 from scipy import ndimage
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from .checks import check_count, check_range
@@ -330,7 +333,7 @@ class ExcludedMap:
     def off_axis(self) -> int:
         """Components wholly above or wholly below the x-axis (their cells' box does not meet y = 0): for a
         pair symmetric under y → −y, the mirror pairs its bodies part into off the axis."""
-        return sum(1 for c in self.components if c.bbox[2] > 0.0 or c.bbox[3] < 0.0)
+        return sum(1 for c in self.components if not _on_axis(c))
 
     def limit(self, component: MapComponent) -> str:
         """What a component may be an artefact of: "floor" (``floor_limited``: thinner than a few of the floor's
@@ -1104,8 +1107,9 @@ def map_transitions(
         (b) at every opening mapped; ``low``, ``high`` (rad),
         ``low_degrees``, ``high_degrees``, ``count_low``, ``count_high``,
         ``off_axis_low``, ``off_axis_high`` and ``transition_unresolved`` (a
-        component at either end is unresolved: the bracket may be the floor's
-        or the polylines') per ``transition``; ``off_axis`` per opening.
+        component that changes in the bracket is unresolved: the bracket may
+        be the floor's or the polylines'; :func:`changed_components`) per
+        ``transition``; ``off_axis`` per opening.
     """
     lo, hi = (float(v) for v in opening_range)
     if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
@@ -1172,6 +1176,64 @@ def _same(saved, value) -> bool:
     return bool(np.all(np.asarray(saved) == np.asarray(value)))
 
 
+def changed_components(low: ExcludedMap, high: ExcludedMap) -> tuple[list, list]:
+    """The components of ``low`` and of ``high`` (maps a small step of Ψ apart) that change between them.
+
+    Over a small step the curves move little, so a component at one end
+    overlaps what it became at the other: two components, one on each map,
+    are linked where some cell of one meets a cell of the other (their
+    excluded nodes, within half the sum of their cells in x and in y). A
+    group of components linked one to another is unchanged when it holds one
+    component of each map, both on the x-axis or both off it
+    (:attr:`ExcludedMap.off_axis`); every other group changed: a body that
+    parts or joins, one that appears or vanishes, one that leaves the axis.
+    A component that moved farther than its own size is taken for one that
+    vanished and one that appeared. Returns (components of ``low``,
+    components of ``high``) in the changed groups.
+    """
+    comps = low.components + high.components
+    first = len(low.components)
+    graph = np.zeros((len(comps), len(comps)), dtype=bool)
+    for i, a in enumerate(low.components):
+        for j, b in enumerate(high.components):
+            graph[i, first + j] = _cells_meet(a, b)
+    _, group = connected_components(graph, directed=False)
+    changed = set()
+    for g in np.unique(group):
+        members = np.flatnonzero(group == g)
+        lows, highs = members[members < first], members[members >= first]
+        if len(lows) != 1 or len(highs) != 1 or _on_axis(comps[lows[0]]) != _on_axis(comps[highs[0]]):
+            changed.update(int(m) for m in members)
+    return [comps[m] for m in sorted(changed) if m < first], [comps[m] for m in sorted(changed) if m >= first]
+
+
+def _cells_meet(a: MapComponent, b: MapComponent) -> bool:
+    """Whether a cell of one component's excluded nodes meets a cell of the other's (their boxes, for
+    components read without nodes)."""
+    if a.bbox[1] < b.bbox[0] or b.bbox[1] < a.bbox[0] or a.bbox[3] < b.bbox[2] or b.bbox[3] < a.bbox[2]:
+        return False
+    if not (len(a.x) and len(b.x)):
+        return True
+    reach = 0.5 * (b.cell + a.cell.max())
+    near = cKDTree(np.column_stack([a.x, a.y])).query_ball_point(
+        np.column_stack([b.x, b.y]), reach, p=np.inf, return_length=True
+    )
+    return bool(np.any(near))
+
+
+def _on_axis(component: MapComponent) -> bool:
+    return component.bbox[2] <= 0.0 <= component.bbox[3]
+
+
+def _change_unresolved(low: ExcludedMap, high: ExcludedMap) -> bool:
+    """Whether a component that changes between the two maps (:func:`changed_components`) is unresolved
+    (:meth:`ExcludedMap.limit`); where none is found to change, whether any at either end is."""
+    lows, highs = changed_components(low, high)
+    if not lows and not highs:
+        lows, highs = low.components, high.components
+    return any(low.limit(c) for c in lows) or any(high.limit(c) for c in highs)
+
+
 def _bisect(state, low, high, tolerance):
     """Brackets no wider than 2·tolerance around each change of ``state`` in [low, high]."""
     if state(low) == state(high):
@@ -1195,7 +1257,7 @@ def _transitions_dataset(maps, brackets, floor, base):
             unresolved[i, k] = bool(maps[o].limit(c))
     low = np.array([b[0] for b in brackets])
     high = np.array([b[1] for b in brackets])
-    ends_unresolved = [any(maps[o].limit(c) for o in b for c in maps[o].components) for b in brackets]
+    ends_unresolved = [_change_unresolved(maps[a], maps[b]) for a, b in brackets]
     return xr.Dataset(
         {
             "count": ("opening", [maps[o].count for o in openings]),
