@@ -12,7 +12,10 @@ polylines depart from the curves), and the brackets not marked on either
 grid are compared too.
 
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
-        [--floor 1e-7] [--out DIR] [--reuse]
+        [--floor 1e-7] [--out DIR] [--reuse] [--figures DIR]
+
+``--figures DIR``: the counts and the components' areas over Ψ on both grids
+(:func:`sesp.plot.map_transitions_plot`), ``map_transitions_n{n}.png`` per n.
 
 Each map is saved as it is made, in ``--out/maps_n{n}_base{b}/``: a search
 stopped part way resumes from them when run again (its time is then that of
@@ -49,6 +52,22 @@ def unresolved(result):
     return [bool(v) for v in result.transition_unresolved.values]
 
 
+def draw(n, results, folder):
+    """Save the counts and areas over Ψ of the searches ``results`` ({label: dataset}) for this n."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from sesp.plot import map_transitions_plot, save_figure
+
+    fig = map_transitions_plot(results)
+    fig.suptitle(f"n = {n:g}: excluded components on adaptive maps, exact in φ")
+    folder.mkdir(parents=True, exist_ok=True)
+    save_figure(fig, folder / f"map_transitions_n{n:g}.png")
+    plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--n", type=float, nargs="+", default=[2, 4, 8, 10])
@@ -59,6 +78,7 @@ def main():
     parser.add_argument("--floor", type=float, default=1e-7)
     parser.add_argument("--out", type=Path, default=Path("."))
     parser.add_argument("--reuse", action="store_true", help="read searches already saved in --out")
+    parser.add_argument("--figures", type=Path, default=None, help="save map_transitions_n{n}.png here")
     args = parser.parse_args()
     print(machine())
     print(
@@ -67,7 +87,7 @@ def main():
     )
     same_everywhere = same_resolved = True
     for n in args.n:
-        found, seconds, flagged = {}, {}, {}
+        found, seconds, flagged, searched = {}, {}, {}, {}
         for base in dict.fromkeys(args.bases):  # a base given twice is searched once
             path = args.out / f"map_transitions_n{n:g}_base{base}.nc"
             saved = xr.load_dataset(path) if args.reuse and path.exists() else None
@@ -83,9 +103,12 @@ def main():
             )
             result.attrs["seconds"] = saved.attrs["seconds"] if saved is not None else time.perf_counter() - t0
             result.to_netcdf(path)
+            searched[base] = result
             seconds[base] = result.attrs["seconds"]
             found[base] = brackets(result)
             flagged[base] = unresolved(result)
+        if args.figures is not None:
+            draw(n, {f"{base} cells": searched[base] for base in args.bases}, args.figures)
         a, b = (found[base] for base in args.bases)
         rows = []
         for k in range(max(len(a), len(b))):

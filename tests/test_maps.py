@@ -499,6 +499,12 @@ def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch):
     assert result.count_high.values[-1] == 0
     assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
     assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5
+    # the command line draws the same search from the saved maps
+    png = tmp_path / "counts.png"
+    assert main(["topology", "--n", "2", "--opening-range", "170", "190", "--step", "10", "--map", "--base", "48",
+                 "--floor", "1e-4", "--tolerance", "2.5", "--maps-folder", str(tmp_path), "--plot", str(png),
+                 "--quiet"]) == 0  # fmt: skip
+    assert png.stat().st_size > 10_000
 
 
 def _piece(ymin, ymax):
@@ -596,8 +602,9 @@ def test_cli_one_opening_keeps_its_map_in_the_maps_folder(tmp_path, capsys):
     made = capsys.readouterr().out
     (path,) = tmp_path.glob("map_*.nc")
     assert ExcludedMap.from_dataset(load(path)).count == json.loads(made)["count"] == 2
-    assert main([*command, "--maps-folder", str(tmp_path)]) == 0
+    assert main([*command, "--maps-folder", str(tmp_path), "--plot", str(tmp_path / "map.png")]) == 0
     assert capsys.readouterr().out == made  # read back, the same components
+    assert (tmp_path / "map.png").stat().st_size > 10_000
     assert main([*command[:-3], "--base", "64", "--quiet", "--maps-folder", str(tmp_path)]) == 2
     assert "base_cells differ" in capsys.readouterr().err
 
@@ -608,6 +615,10 @@ def test_map_arguments_are_checked():
     with pytest.raises(ValueError, match="floor"):
         excluded_map(ASP90, floor=0.0)
     assert main(["topology", "--opening", "400", "--json"]) == 2
+    for wrong in (["--opening", "90", "--plot", "map.xyz"], ["--opening", "90", "--plot", "/no/such/map.png"],
+                  ["--plot", "counts.png"]):  # fmt: skip
+        with pytest.raises(ValueError, match="--plot"):
+            main(["topology", "--debug", *wrong])
 
 
 def test_component_map_draws_each_component_in_its_colour():

@@ -97,6 +97,35 @@ def test_topology_plot(sweep_ds, tmp_path):
     assert_not_blank(_save(plot.topology_plot(sweep_ds), tmp_path / "t.png"))
 
 
+def _transitions(lens_ends):
+    """A transitions dataset of two synthetic components: a body at every opening and, where Ψ is below
+    ``lens_ends`` (degrees), a lens marked unresolved (at the floor)."""
+    from sesp.maps import ExcludedMap, MapComponent, _transitions_dataset
+
+    def component(area, floor_limited):
+        return MapComponent(area, 0.1, (0.0, 1.0, -0.5, 0.5), False, np.zeros(1), np.zeros(1), np.full(1, 0.01),
+                            floor_limited=floor_limited)  # fmt: skip
+
+    maps = {}
+    for degrees in (0.0, 170.0, 175.0, 177.5, 180.0):
+        parts = [component(1.0 - degrees / 200, False)] + ([component(1e-4, True)] if degrees < lens_ends else [])
+        maps[math.radians(degrees)] = ExcludedMap(parts, floor=1e-4, base_cells=32, reach=2.0, positions=1,
+                                                  finest=1e-4)  # fmt: skip
+    return _transitions_dataset(maps, [(math.radians(175.0), math.radians(177.5))], 1e-4, 32)
+
+
+def test_map_transitions_plot_shades_brackets_and_hollows_unresolved_components(tmp_path):
+    results = {"32 cells": _transitions(176.0), "33 cells": _transitions(176.0)}
+    fig = plot.map_transitions_plot(results, zoom=(170, 181))
+    top, zoomed = fig.axes[0], fig.axes[1]
+    assert zoomed.get_xlim() == (170, 181) and top.get_xlim()[1] == 190.0  # last with a component + 10
+    assert [list(line.get_ydata()) for line in top.lines] == [[2, 2, 2, 1, 1]] * 2
+    assert len(top.patches) == 2  # one bracket per search
+    hollow = [line for line in fig.axes[2].lines if line.get_markerfacecolor() == "none"]
+    assert [len(line.get_xdata()) for line in hollow] == [3, 3]  # the lens at 0, 170 and 175 degrees
+    assert_not_blank(_save(fig, tmp_path / "m.png"))
+
+
 def test_map_grid_from_sweep(sweep_ds, tmp_path):
     assert_not_blank(_save(plot.map_grid(sweep_ds.isel(opening=[0, 1, 2]), style="raster"), tmp_path / "mg.png"))
 

@@ -177,6 +177,14 @@ def _add_topology(sub):
         "them (a Ψ range resumes where it stopped)",
     )
     p.add_argument(
+        "--plot",
+        type=Path,
+        default=None,
+        metavar="PNG",
+        help="adaptive maps: save a figure, the components in colour (--opening) or the counts and areas "
+        "over Ψ with the changes' brackets (--opening-range)",
+    )
+    p.add_argument(
         "--quantity",
         choices=("excluded", "allowed", "entangled"),
         default="excluded",
@@ -213,6 +221,8 @@ def _positive_degrees(name: str, value: float, low: float, high: float) -> float
 def _cmd_topology(args) -> int:
     if args.opening is not None or args.json or args.map:
         return _topology_on_maps(args)
+    if args.plot is not None:
+        raise ValueError("--plot draws adaptive maps: give --opening DEG or --map with it")
     from .grid import Grid
     from .report import format_result
     from .topology import axis_transitions, find_transitions
@@ -271,6 +281,7 @@ def _topology_on_maps(args) -> int:
         raise ValueError(f"--base must be an integer in [8, 4096] (cells), got {args.base}")
     if not (math.isfinite(args.floor) and 1e-12 <= args.floor <= 1.0):
         raise ValueError(f"--floor must be in [1e-12, 1] b, got {args.floor}")
+    _check_figure_path(args.plot)
     _announce_compile()
     if args.opening is not None:
         particle = _shape_from_args(args, args.opening)
@@ -281,6 +292,7 @@ def _topology_on_maps(args) -> int:
             print(json.dumps(_map_json(found, args.opening)))
         else:
             print(format_map(found, particle))
+        _save_map_plot(args.plot, "component_map", found, particle=particle)
         return 0
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
@@ -301,7 +313,42 @@ def _topology_on_maps(args) -> int:
         folder=args.maps_folder,
     )
     print(json.dumps(_transitions_json(result)) if args.json else format_map_transitions(result, family))
+    _save_map_plot(args.plot, "map_transitions_plot", result)
     return 0
+
+
+def _check_figure_path(path):
+    """Fail before the work if ``path`` (None: no figure) cannot be saved: no such folder, or a format
+    matplotlib does not write."""
+    if path is None:
+        return
+    from matplotlib.figure import Figure
+
+    formats = Figure().canvas.get_supported_filetypes()
+    if path.suffix.lower().lstrip(".") not in formats:
+        raise ValueError(f"--plot must end in one of {', '.join('.' + f for f in sorted(formats))}; got {path}")
+    if not path.parent.is_dir():
+        raise ValueError(f"--plot: no folder {path.parent} to save {path.name} in")
+
+
+def _save_map_plot(path, kind, found, **kwargs):
+    """Save ``sesp.plot.<kind>(found)`` at ``path`` (nothing if None)."""
+    if path is None:
+        return
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import plot
+
+    drawn = getattr(plot, kind)(found, **kwargs)
+    fig = getattr(drawn, "figure", drawn)
+    if kind == "component_map":
+        fig.set_size_inches(7, 6)
+    plot.save_figure(fig, path)
+    plt.close(fig)
+    log.info("figure saved: %s", path)
 
 
 def _map_json(found, degrees) -> dict:

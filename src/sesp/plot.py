@@ -27,6 +27,7 @@ __all__ = [
     "excluded_area_curve",
     "excluded_area_panels",
     "topology_plot",
+    "map_transitions_plot",
     "map_grid",
     "render_figures",
     "figure",
@@ -558,6 +559,81 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
     if handles:
         ax.legend(handles=handles, fontsize=7, loc="upper right")
     return ax
+
+
+def map_transitions_plot(results, *, zoom=(165.0, 181.0), fig=None):
+    """Excluded components on adaptive maps against Ψ (:func:`sesp.map_transitions`), one colour per search.
+
+    ``results``: a transitions dataset, or {label: dataset} (one search per
+    base grid, say). Top: the count at every mapped opening, each
+    transition's bracket shaded, with a dotted edge where it is unresolved
+    (``transition_unresolved``: a component that changes in it may be the
+    floor's or the polylines'). Bottom: every component's area (b², log
+    scale) at every mapped opening, hollow where it is unresolved. The
+    right-hand column repeats both over ``zoom`` (degrees; None, or a range
+    searched less than three times as wide: no zoom), where the changes
+    near Ψ = π crowd together. Openings past the last one mapped with a
+    component (by more than 10°) are not drawn.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
+
+    if isinstance(results, xr.Dataset):
+        results = {"": results}
+    start = min(float(ds.opening_degrees.min()) for ds in results.values())
+    end = max(_last_nonzero(ds) for ds in results.values()) + 10.0  # beyond the last component: not drawn
+    if zoom is not None and end - start < 3 * (zoom[1] - zoom[0]):
+        zoom = None  # the whole range is about as narrow as the zoom
+    columns = 1 if zoom is None else 2
+    fig = fig or plt.figure(figsize=(5.0 * columns + 1.0, 6.0), layout="constrained")
+    axes = np.asarray(fig.subplots(2, columns, sharex="col", squeeze=False))
+    for i, (label, ds) in enumerate(results.items()):
+        color = f"C{i}"
+        deg = ds.opening_degrees.values
+        area = ds.area.values
+        unresolved = ds.unresolved.values if "unresolved" in ds else np.zeros(area.shape, dtype=bool)
+        flags = ds.transition_unresolved.values if "transition_unresolved" in ds else np.ones(ds.sizes["transition"])
+        for top, bottom in axes.T:
+            top.step(deg, ds["count"].values, where="post", color=color, lw=1.2, label=label or None)
+            for lo, hi, marked in zip(ds.low_degrees.values, ds.high_degrees.values, flags):
+                top.axvspan(lo, hi, color=color, alpha=0.25, ec=color, ls=":" if marked else "-", lw=0.8)
+            shown = ~np.isnan(area)
+            solid = shown & ~unresolved
+            hollow = shown & unresolved
+            rows = np.broadcast_to(deg[:, None], area.shape)
+            bottom.plot(rows[solid], area[solid], "o", ms=3.5, color=color)
+            bottom.plot(rows[hollow], area[hollow], "o", ms=3.5, mfc="none", mec=color, mew=0.8)
+    for top, bottom in axes.T:
+        top.yaxis.set_major_locator(MaxNLocator(integer=True))
+        bottom.set_yscale("log")
+        bottom.set_xlabel(PSI_LABEL)
+    axes[0, 0].set_ylabel("excluded components")
+    axes[1, 0].set_ylabel(r"component area ($b^2$)")
+    axes[0, 0].set_xlim(start, end)
+    if zoom is not None:
+        axes[0, 1].set_xlim(*zoom)
+        inside = [ds.area.where((ds.opening_degrees >= zoom[0]) & (ds.opening_degrees <= zoom[1])) for ds in
+                  results.values()]  # fmt: skip
+        low, high = (min(float(a.min()) for a in inside), max(float(a.max()) for a in inside))
+        if np.isfinite(low) and np.isfinite(high):
+            axes[1, 1].set_ylim(low / 2, high * 2)
+        axes[0, 1].set_title(f"{zoom[0]:g}°–{zoom[1]:g}°", fontsize=9)
+    handles, _ = axes[0, 0].get_legend_handles_labels()
+    handles += [
+        Line2D([], [], color="0.4", lw=6, alpha=0.25, label="bracket of a change"),
+        Line2D([], [], ls="none", marker="o", ms=4, color="0.3", label="component, resolved"),
+        Line2D([], [], ls="none", marker="o", ms=4, mfc="none", mec="0.3", label="component, unresolved"),
+    ]
+    axes[0, 0].legend(handles=handles, frameon=False, fontsize=7)
+    return fig
+
+
+def _last_nonzero(ds) -> float:
+    """Degrees: the last opening mapped with a component, or the first mapped if none has one."""
+    counts = ds["count"].values
+    deg = ds.opening_degrees.values
+    return float(deg[np.flatnonzero(counts)[-1]] if counts.any() else deg[0])
 
 
 FIGURES = {
