@@ -477,7 +477,7 @@ def test_a_thin_part_of_a_thick_body_running_away_from_it_is_refined_beyond_its_
     assert kept.sum() > 200
 
 
-def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch):
+def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch, capsys):
     """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
     4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two
     components, the lens with its exact area (π − Ψ) − sin Ψ. Each map is saved as it is made: the same
@@ -499,12 +499,20 @@ def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch):
     assert result.count_high.values[-1] == 0
     assert result.high_degrees.values[-1] - result.low_degrees.values[-1] <= 5.0
     assert result.low_degrees.values[-1] <= 180.0 <= result.high_degrees.values[-1] + 2.5
-    # the command line draws the same search from the saved maps
+    # the command line draws the same search from the saved maps, and prints it as JSON
+    command = ["topology", "--n", "2", "--opening-range", "170", "190", "--step", "10", "--base", "48", "--floor",
+               "1e-4", "--tolerance", "2.5", "--maps-folder", str(tmp_path), "--quiet"]  # fmt: skip
     png = tmp_path / "counts.png"
-    assert main(["topology", "--n", "2", "--opening-range", "170", "190", "--step", "10", "--map", "--base", "48",
-                 "--floor", "1e-4", "--tolerance", "2.5", "--maps-folder", str(tmp_path), "--plot", str(png),
-                 "--quiet"]) == 0  # fmt: skip
+    assert main([*command, "--map", "--plot", str(png)]) == 0
     assert png.stat().st_size > 10_000
+    capsys.readouterr()
+    assert main([*command, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [t["count_high"] for t in out["transitions"]] == list(result.count_high.values)
+    last = out["transitions"][-1]  # everything at its low end vanishes
+    assert last["changed_low"] == list(range(1, last["count_low"] + 1)) and last["changed_high"] == []
+    first, final = out["intervals"][0], out["intervals"][-1]
+    assert (first["from_deg"], first["count"]) == (170.0, 2) and (final["to_deg"], final["count"]) == (190.0, 0)
 
 
 def _piece(ymin, ymax):
@@ -540,6 +548,10 @@ def test_transition_search_sees_changes_that_leave_the_count_unchanged_over_a_st
     assert map_change(result, 0) == "2 -> 1"
 
 
+def _change_unresolved(low, high):
+    return maps._change(low, high, max(low.count, high.count))[2]
+
+
 def test_a_transition_is_unresolved_only_where_a_component_that_changes_is():
     """Two maps a step apart: a resolved body parts in two, and a strip of the floor beside it moves a little
     and stays: the body's parts are the change, the strip is not, and the transition is resolved. When the
@@ -560,12 +572,13 @@ def test_a_transition_is_unresolved_only_where_a_component_that_changes_is():
     assert high.limit(moved) == "floor" and not high.limit(left)
     assert [c.x.size for c in maps.changed_components(low, high)[0]] == [80]
     assert [c.x.size for c in maps.changed_components(low, high)[1]] == [38, 39]
-    assert not maps._change_unresolved(low, high)
+    assert not _change_unresolved(low, high)
+    assert maps._change(low, high, 4)[:2] == ([True, False, False, False], [True, True, False, False])
     for high in ([left, right], [left, right, lifted]):
-        assert maps._change_unresolved(*pair_of_maps([body, strip], high))
+        assert _change_unresolved(*pair_of_maps([body, strip], high))
     # where none is found to change (the count did not either), any unresolved component marks it
     assert maps.changed_components(*pair_of_maps([strip], [moved])) == ([], [])
-    assert maps._change_unresolved(*pair_of_maps([strip], [moved]))
+    assert _change_unresolved(*pair_of_maps([strip], [moved]))
 
 
 def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):

@@ -364,6 +364,13 @@ def _map_json(found, degrees) -> dict:
     }
 
 
+def _changed(result, name, t) -> list:
+    """Numbers of the components (as at that end's opening) that change in transition ``t``."""
+    if name not in result:  # a search saved before it was recorded
+        return []
+    return [int(k) for k in result.component.values[result[name].values[t]]]
+
+
 def _transitions_json(result) -> dict:
     from .report import count_runs
 
@@ -379,6 +386,8 @@ def _transitions_json(result) -> dict:
             "off_axis_low": int(result.off_axis_low[t]),
             "off_axis_high": int(result.off_axis_high[t]),
             "unresolved": bool(result.transition_unresolved[t]),
+            "changed_low": _changed(result, "changed_low", t),
+            "changed_high": _changed(result, "changed_high", t),
         }
         for t in range(result.sizes["transition"])
     ]

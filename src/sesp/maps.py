@@ -1109,7 +1109,9 @@ def map_transitions(
         ``off_axis_low``, ``off_axis_high`` and ``transition_unresolved`` (a
         component that changes in the bracket is unresolved: the bracket may
         be the floor's or the polylines'; :func:`changed_components`) per
-        ``transition``; ``off_axis`` per opening.
+        ``transition``; ``changed_low``, ``changed_high`` (transition,
+        component): which components at the low and the high end change
+        (numbered as at that opening); ``off_axis`` per opening.
     """
     lo, hi = (float(v) for v in opening_range)
     if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
@@ -1225,13 +1227,18 @@ def _on_axis(component: MapComponent) -> bool:
     return component.bbox[2] <= 0.0 <= component.bbox[3]
 
 
-def _change_unresolved(low: ExcludedMap, high: ExcludedMap) -> bool:
-    """Whether a component that changes between the two maps (:func:`changed_components`) is unresolved
-    (:meth:`ExcludedMap.limit`); where none is found to change, whether any at either end is."""
+def _change(low: ExcludedMap, high: ExcludedMap, width: int) -> tuple:
+    """(per component of ``low``, then of ``high``: whether it changes between the two maps, padded with
+    False to ``width``; whether a component that changes is unresolved, or, where none is found to change,
+    any at either end) (:func:`changed_components`, :meth:`ExcludedMap.limit`)."""
     lows, highs = changed_components(low, high)
-    if not lows and not highs:
-        lows, highs = low.components, high.components
-    return any(low.limit(c) for c in lows) or any(high.limit(c) for c in highs)
+    flags = [
+        [any(c is d for d in changed) for c in found.components] + [False] * (width - found.count)
+        for found, changed in ((low, lows), (high, highs))
+    ]
+    suspects = (lows, highs) if lows or highs else (low.components, high.components)
+    unresolved = any(low.limit(c) for c in suspects[0]) or any(high.limit(c) for c in suspects[1])
+    return flags[0], flags[1], unresolved
 
 
 def _bisect(state, low, high, tolerance):
@@ -1257,7 +1264,10 @@ def _transitions_dataset(maps, brackets, floor, base):
             unresolved[i, k] = bool(maps[o].limit(c))
     low = np.array([b[0] for b in brackets])
     high = np.array([b[1] for b in brackets])
-    ends_unresolved = [_change_unresolved(maps[a], maps[b]) for a, b in brackets]
+    changes = [_change(maps[a], maps[b], width) for a, b in brackets]
+    changed_low = np.array([c[0] for c in changes], dtype=bool).reshape(len(brackets), width)
+    changed_high = np.array([c[1] for c in changes], dtype=bool).reshape(len(brackets), width)
+    ends_unresolved = [c[2] for c in changes]
     return xr.Dataset(
         {
             "count": ("opening", [maps[o].count for o in openings]),
@@ -1276,6 +1286,8 @@ def _transitions_dataset(maps, brackets, floor, base):
             "off_axis_low": ("transition", np.array([maps[b[0]].off_axis for b in brackets], dtype=int)),
             "off_axis_high": ("transition", np.array([maps[b[1]].off_axis for b in brackets], dtype=int)),
             "transition_unresolved": ("transition", np.array(ends_unresolved, dtype=bool)),
+            "changed_low": (("transition", "component"), changed_low),
+            "changed_high": (("transition", "component"), changed_high),
         },
         coords={
             "opening": ("opening", openings, {"units": "rad", "long_name": "opening Ψ"}),
