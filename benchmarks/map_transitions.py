@@ -31,6 +31,7 @@ import math
 import time
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 from _common import machine, table
 
@@ -61,7 +62,8 @@ def draw(n, results, folder):
 
     from sesp.plot import map_transitions_plot, save_figure
 
-    fig = map_transitions_plot(results)
+    lens = (r"exact ASP lens $(\pi - \Psi) - \sin\Psi$", lambda psi: (math.pi - psi) - np.sin(psi))
+    fig = map_transitions_plot(results, reference=lens if n == 2 else None)
     fig.suptitle(f"n = {n:g}: excluded components on adaptive maps, exact in φ")
     folder.mkdir(parents=True, exist_ok=True)
     save_figure(fig, folder / f"map_transitions_n{n:g}.png")

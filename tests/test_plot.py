@@ -116,13 +116,16 @@ def _transitions(lens_ends):
 
 def test_map_transitions_plot_shades_brackets_and_hollows_unresolved_components(tmp_path):
     results = {"32 cells": _transitions(176.0), "33 cells": _transitions(176.0)}
-    fig = plot.map_transitions_plot(results, zoom=(170, 181))
+    fig = plot.map_transitions_plot(results, zoom=(170, 181), reference=("lens", lambda psi: np.pi - psi))
     top, zoomed = fig.axes[0], fig.axes[1]
     assert zoomed.get_xlim() == (170, 181) and top.get_xlim()[1] == 190.0  # last with a component + 10
     assert [list(line.get_ydata()) for line in top.lines] == [[2, 2, 2, 1, 1]] * 2
     assert len(top.patches) == 2  # one bracket per search
     hollow = [line for line in fig.axes[2].lines if line.get_markerfacecolor() == "none"]
     assert [len(line.get_xdata()) for line in hollow] == [3, 3]  # the lens at 0, 170 and 175 degrees
+    (dashed,) = [line for line in fig.axes[2].lines if line.get_linestyle() == "--"]
+    assert np.allclose(dashed.get_ydata(), np.pi - np.radians(dashed.get_xdata()))  # the reference, to 180 deg
+    assert dashed.get_xdata()[-1] == 180.0
     assert_not_blank(_save(fig, tmp_path / "m.png"))
 
 

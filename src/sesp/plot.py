@@ -561,7 +561,7 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
     return ax
 
 
-def map_transitions_plot(results, *, zoom=(165.0, 181.0), fig=None):
+def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=None):
     """Excluded components on adaptive maps against Ψ (:func:`sesp.map_transitions`), one colour per search.
 
     ``results``: a transitions dataset, or {label: dataset} (one search per
@@ -573,7 +573,9 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), fig=None):
     right-hand column repeats both over ``zoom`` (degrees; None, or a range
     searched less than three times as wide: no zoom), where the changes
     near Ψ = π crowd together. Openings past the last one mapped with a
-    component (by more than 10°) are not drawn.
+    component (by more than 10°) are not drawn. ``reference``: (label,
+    function of Ψ in radians giving an area in b²), drawn as a dashed line
+    under the areas (the ASP's exact lens (π − Ψ) − sin Ψ, say).
     """
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
@@ -604,6 +606,12 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), fig=None):
             rows = np.broadcast_to(deg[:, None], area.shape)
             bottom.plot(rows[solid], area[solid], "o", ms=3.5, color=color)
             bottom.plot(rows[hollow], area[hollow], "o", ms=3.5, mfc="none", mec=color, mew=0.8)
+    if reference is not None:
+        label, area_of = reference
+        psi = np.linspace(start, min(end, 180.0), 400)
+        for bottom in axes[1]:
+            bottom.plot(psi, area_of(np.radians(psi)), "k--", lw=0.8, label=label, zorder=0)
+        axes[1, 0].legend(frameon=False, fontsize=7, loc="lower left")
     for top, bottom in axes.T:
         top.yaxis.set_major_locator(MaxNLocator(integer=True))
         bottom.set_yscale("log")
