@@ -573,7 +573,10 @@ def test_a_transition_is_unresolved_only_where_a_component_that_changes_is():
     assert [c.x.size for c in maps.changed_components(low, high)[0]] == [80]
     assert [c.x.size for c in maps.changed_components(low, high)[1]] == [38, 39]
     assert not _change_unresolved(low, high)
-    assert maps._change(low, high, 4)[:2] == ([True, False, False, False], [True, True, False, False])
+    assert [list(row) for row in maps._change(low, high, 4)[:2]] == [
+        [True, False, False, False],
+        [True, True, False, False],
+    ]
     for high in ([left, right], [left, right, lifted]):
         assert _change_unresolved(*pair_of_maps([body, strip], high))
     # where none is found to change (the count did not either), any unresolved component marks it

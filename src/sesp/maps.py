@@ -1193,6 +1193,12 @@ def changed_components(low: ExcludedMap, high: ExcludedMap) -> tuple[list, list]
     vanished and one that appeared. Returns (components of ``low``,
     components of ``high``) in the changed groups.
     """
+    lows, highs = _changed_indices(low, high)
+    return [low.components[k] for k in lows], [high.components[k] for k in highs]
+
+
+def _changed_indices(low: ExcludedMap, high: ExcludedMap) -> tuple[list, list]:
+    """Indices into ``low.components`` and ``high.components`` of those that change (:func:`changed_components`)."""
     comps = low.components + high.components
     first = len(low.components)
     graph = np.zeros((len(comps), len(comps)), dtype=bool)
@@ -1206,7 +1212,7 @@ def changed_components(low: ExcludedMap, high: ExcludedMap) -> tuple[list, list]
         lows, highs = members[members < first], members[members >= first]
         if len(lows) != 1 or len(highs) != 1 or _on_axis(comps[lows[0]]) != _on_axis(comps[highs[0]]):
             changed.update(int(m) for m in members)
-    return [comps[m] for m in sorted(changed) if m < first], [comps[m] for m in sorted(changed) if m >= first]
+    return [m for m in sorted(changed) if m < first], [m - first for m in sorted(changed) if m >= first]
 
 
 def _cells_meet(a: MapComponent, b: MapComponent) -> bool:
@@ -1231,13 +1237,13 @@ def _change(low: ExcludedMap, high: ExcludedMap, width: int) -> tuple:
     """(per component of ``low``, then of ``high``: whether it changes between the two maps, padded with
     False to ``width``; whether a component that changes is unresolved, or, where none is found to change,
     any at either end) (:func:`changed_components`, :meth:`ExcludedMap.limit`)."""
-    lows, highs = changed_components(low, high)
-    flags = [
-        [any(c is d for d in changed) for c in found.components] + [False] * (width - found.count)
-        for found, changed in ((low, lows), (high, highs))
-    ]
-    suspects = (lows, highs) if lows or highs else (low.components, high.components)
-    unresolved = any(low.limit(c) for c in suspects[0]) or any(high.limit(c) for c in suspects[1])
+    lows, highs = _changed_indices(low, high)
+    flags = [np.zeros(width, dtype=bool), np.zeros(width, dtype=bool)]
+    flags[0][lows] = flags[1][highs] = True
+    suspects = (lows, highs) if lows or highs else (range(low.count), range(high.count))
+    unresolved = any(low.limit(low.components[k]) for k in suspects[0]) or any(
+        high.limit(high.components[k]) for k in suspects[1]
+    )
     return flags[0], flags[1], unresolved
 
 
