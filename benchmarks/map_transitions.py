@@ -24,6 +24,8 @@ and base) from those maps, with the time it took then, instead of making
 them again; so the two base grids can be searched by two processes at once
 (``--bases 128 128`` and ``--bases 97 97``) and the table printed
 afterwards, and the brackets' marks are those of the code that prints them.
+A saved search whose maps folder is gone is an error with ``--reuse``: its
+maps would be made again, and the time printed would not be theirs.
 """
 
 import argparse
@@ -92,7 +94,10 @@ def main():
         found, seconds, flagged, searched = {}, {}, {}, {}
         for base in dict.fromkeys(args.bases):  # a base given twice is searched once
             path = args.out / f"map_transitions_n{n:g}_base{base}.nc"
+            maps = args.out / f"maps_n{n:g}_base{base}"
             saved = xr.load_dataset(path) if args.reuse and path.exists() else None
+            if saved is not None and not maps.is_dir():
+                raise SystemExit(f"--reuse: {path} has no maps folder {maps} to rebuild it from (remove --reuse)")
             t0 = time.perf_counter()
             result = map_transitions(
                 SeSP(n=n),
@@ -101,7 +106,7 @@ def main():
                 base=base,
                 floor=args.floor,
                 progress=saved is None,
-                folder=args.out / f"maps_n{n:g}_base{base}",
+                folder=maps,
             )
             result.attrs["seconds"] = saved.attrs["seconds"] if saved is not None else time.perf_counter() - t0
             result.to_netcdf(path)
