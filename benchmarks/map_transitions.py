@@ -7,8 +7,10 @@ search; saves each search as ``map_transitions_n{n}_base{b}.nc`` in
 ``--out``. A bracket is marked * where it is unresolved
 (``transition_unresolved``: a component that changes in it, parting,
 joining, appearing, vanishing or leaving the axis, is seen only at the
-floor, encloses allowed slivers that may part it, or is thinner than the
-polylines depart from the curves), and the brackets not marked on either
+floor, encloses allowed slivers that may part it, is thinner than the
+polylines depart from the curves, or was joined so that the partition is
+its own mirror image about the x-axis, as the set's is: ``mirror_joined``),
+and the brackets not marked on either
 grid are compared too.
 
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
@@ -138,8 +140,9 @@ def main():
         )
     verdict = "yes" if same_everywhere else "no"
     print("\n* unresolved: a component that changes in the bracket (sesp.maps.changed_components) is seen only at")
-    print("  the floor, encloses allowed slivers that may part it, or is thinner than the polylines depart from the")
-    print("  curves (ExcludedMap.limit)")
+    print("  the floor, encloses allowed slivers that may part it, is thinner than the polylines depart from the")
+    print("  curves, or was joined so that the partition is its own mirror image about the x-axis, as the set's is")
+    print("  (ExcludedMap.limit, sesp.maps.mirror_joined)")
     print(f"all brackets identical on base grids {args.bases[0]} and {args.bases[1]}: {verdict}")
     print(f"brackets not marked * identical on both: {'yes' if same_resolved else 'no'}")
 

@@ -584,6 +584,57 @@ def test_a_transition_is_unresolved_only_where_a_component_that_changes_is():
     assert _change_unresolved(*pair_of_maps([strip], [moved]))
 
 
+def _boxed(*bbox):
+    return maps.MapComponent(1.0, 0.1, bbox, False, np.empty(0), np.empty(0), np.empty(0))
+
+
+def test_a_component_whose_mirror_image_is_not_one_is_unresolved_for_a_mirror_symmetric_pair():
+    """The excluded set of a SeSP with itself is its own mirror image about the x-axis, and so is its
+    partition: a body on the axis and a mirror pair off it are resolved; a lobe parted from a body that keeps
+    the other lobe (the two judged differently at mirror necks) is marked "mirror", and so is that body. A pair
+    of Polylines has no such symmetry: nothing is marked."""
+    body, upper, lower = _boxed(-1.0, 0.0, -0.3, 0.3), _boxed(0.2, 0.5, 0.1, 0.4), _boxed(0.2, 0.5, -0.41, -0.1)
+    lobe, rest = _boxed(-1.0, -0.6, 0.002, 0.26), _boxed(-1.0, 0.0, -0.26, 0.035)
+    components = [body, upper, lower, lobe, rest]
+
+    def mapped(pair):
+        return ExcludedMap(components, floor=1e-4, base_cells=128, reach=2.0, positions=1, finest=1e-4, pair=pair)
+
+    found = mapped(as_pair(ASP90))
+    assert [found.limit(c) for c in components] == ["", "", "", "mirror", "mirror"]
+    assert found.dataset().unresolved.values.tolist() == [False, False, False, True, True]
+    square = Polyline([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    assert [mapped(as_pair(square)).limit(c) for c in components] == [""] * 5
+    assert [mapped(None).limit(c) for c in components] == [""] * 5  # read without its pair: not known
+
+
+def _lattice(xs, ys, radius, cell=0.01):
+    """A synthetic map component: the nodes of the rectangle xs × ys (ranges of b) on a lattice of ``cell``."""
+    x, y = np.meshgrid(np.arange(*xs, cell), np.arange(*ys, cell))
+    x, y = np.round(x.ravel(), 9), np.round(y.ravel(), 9)
+    box = (x.min() - cell / 2, x.max() + cell / 2, y.min() - cell / 2, y.max() + cell / 2)
+    return MapComponent(x.size * cell * cell, radius, box, False, x, y, np.full(x.size, cell))
+
+
+def test_a_partition_that_is_not_its_own_mirror_image_is_joined_into_one_that_is():
+    """Two mirror lobes off the axis and a strip along it: parted as the lower lobe with the strip and the upper
+    lobe alone (mirror necks judged differently), they are joined into one, marked; parted all three, or as two
+    lobes of which one holds a pinch's point on the axis, they are left. A pair of Polylines is not mirror
+    symmetric: nothing is joined."""
+    lower, upper = _lattice((-0.9, -0.6), (-0.25, -0.045), 0.1), _lattice((-0.9, -0.6), (0.05, 0.255), 0.1)
+    strip = _lattice((-0.59, 0.001), (0.0, 0.001), 0.005)
+    pinch = _lattice((-0.6, -0.599), (0.0, 0.001), 0.005)  # one node on the axis
+    pair = as_pair(ASP90)
+    joined = maps.mirror_joined([maps._merged(lower, strip), upper], pair)
+    assert len(joined) == 1 and joined[0].mirror_joined and joined[0].x.size == lower.x.size * 2 + strip.x.size
+    found = ExcludedMap(joined, floor=1e-4, base_cells=128, reach=2.0, positions=1, finest=1e-4, pair=pair)
+    assert found.limit(joined[0]) == "mirror" and found.dataset().mirror_joined.values.tolist() == [True]
+    assert [c.mirror_joined for c in maps.mirror_joined([lower, upper, strip], pair)] == [False] * 3
+    assert len(maps.mirror_joined([maps._merged(lower, pinch), upper], pair)) == 2
+    square = as_pair(Polyline([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]))
+    assert len(maps.mirror_joined([maps._merged(lower, strip), upper], square)) == 2
+
+
 def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):
     found = excluded_map(ASP90, base=48)
     path = save(found.dataset(), tmp_path / "asp90.nc")

@@ -60,7 +60,10 @@ at Ψ = 179.375° (inscribed radius 1 − sin(Ψ/2) = 1.5e-5 b) is there with
 1024 segments and not with 256. So a component whose inscribed radius is
 smaller than the two polylines' departures summed (:attr:`sesp.Pair.departure`)
 is marked unresolved (:meth:`ExcludedMap.limit`), as is one seen only at the
-floor, and so is a transition in which such a component changes (parts,
+floor, and, for a mirror-symmetric pair, one joined so that the partition
+is its own mirror image, as the set's is (:func:`mirror_joined`), or whose
+mirror image is still not a component (:attr:`ExcludedMap.unmirrored`);
+so is a transition in which such a component changes (parts,
 joins, appears, vanishes or leaves the axis: :func:`changed_components`
 links each component to what overlaps it a step of Ψ away).
 
@@ -172,6 +175,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -286,6 +290,10 @@ class MapComponent:
         it), or on cells at the floor it holds a part joined to the rest
         only through nodes under two nodes deep (it may be two). A thick
         body whose tip reaches the floor is not: its count is settled.
+    mirror_joined : bool
+        It was joined from components that the rule had parted in a way that
+        is not its own mirror image, for a mirror-symmetric pair
+        (:func:`mirror_joined`): the count is that convention's.
     """
 
     area: float
@@ -297,6 +305,7 @@ class MapComponent:
     cell: np.ndarray = field(repr=False)
     encloses_slivers: bool = False
     floor_limited: bool = False
+    mirror_joined: bool = False
 
     def as_dict(self) -> dict:
         """JSON-ready: area, inscribed radius, bounding box, floor and sliver flags."""
@@ -307,6 +316,7 @@ class MapComponent:
             "touches_floor": self.touches_floor,
             "floor_limited": self.floor_limited,
             "encloses_slivers": self.encloses_slivers,
+            "mirror_joined": self.mirror_joined,
         }
 
 
@@ -339,12 +349,41 @@ class ExcludedMap:
         """What a component may be an artefact of: "floor" (``floor_limited``: thinner than a few of the floor's
         cells, or kept apart or joined at a neck the floor cannot judge), "slivers" (it encloses allowed
         slivers seen at isolated nodes, which may part it), "polylines" (thinner than the polylines depart from
-        the curves: it may be theirs, not the curves'), or "" (resolved)."""
+        the curves: it may be theirs, not the curves'), "mirror" (the pair is mirror symmetric and the
+        component was joined so that the partition is (``mirror_joined``), or its mirror image is still not one
+        of the map's: :attr:`unmirrored`), or "" (resolved)."""
         if component.floor_limited:
             return "floor"
         if component.encloses_slivers:
             return "slivers"
-        return "polylines" if component.inscribed_radius < self.departure else ""
+        if component.inscribed_radius < self.departure:
+            return "polylines"
+        if component.mirror_joined or any(component is c for c in self.unmirrored):
+            return "mirror"
+        return ""
+
+    @cached_property
+    def unmirrored(self) -> tuple:
+        """For a mirror-symmetric pair (:attr:`sesp.Pair.mirror_symmetric`), the components whose mirror image
+        about the x-axis is not a component of this map; () for any other pair, or a map read without its pair.
+
+        The excluded set of such a pair is its own mirror image (the state (x, −y, −φ) is the state (x, y, φ)
+        mirrored), and so is its partition into components: each component is its own mirror image or one of a
+        mirror pair. A map whose partition is not (a body parted from one lobe and joined to the other, as
+        n = 10 at Ψ = 179.6875° on 128 base cells) judged a neck and its mirror image differently, each near
+        the rule's threshold: neither verdict is settled. A component's mirror image is taken to be a
+        component when some component's bounding box is the mirrored box to within two base cells on each
+        side (boundaries of thick parts are settled by the base cells). The maps join such components where
+        their nodes show how (:func:`mirror_joined`); what is left here has no mirror image at all (a speck of
+        the floor seen on one side only).
+        """
+        if self.pair is None or not self.pair.mirror_symmetric:
+            return ()
+        tolerance = 2 * 2 * self.reach / (self.base_cells - 2)  # two base cells (excluded_map's h)
+        boxes = np.array([c.bbox for c in self.components], dtype=float).reshape(-1, 4)
+        mirrored = boxes[:, [0, 1, 3, 2]] * np.array([1.0, 1.0, -1.0, -1.0])
+        match = np.all(np.abs(mirrored[:, None, :] - boxes[None, :, :]) <= tolerance, axis=2)
+        return tuple(c for c, found in zip(self.components, match.any(axis=1)) if not found)
 
     def dataset(self) -> xr.Dataset:
         """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor and sliver
@@ -373,6 +412,7 @@ class ExcludedMap:
                 "touches_floor": flags("touches_floor"),
                 "floor_limited": flags("floor_limited"),
                 "encloses_slivers": flags("encloses_slivers"),
+                "mirror_joined": flags("mirror_joined"),
                 "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
                 "bbox": (("component", "side"), box, {"units": "b", "sides": "xmin xmax ymin ymax"}),
                 "node_x": nodes("x"),
@@ -394,18 +434,20 @@ class ExcludedMap:
             return ds[name].values[label == k] if name in ds else np.empty(0)
 
         limited = ds.floor_limited.values if "floor_limited" in ds else ds.touches_floor.values  # older files
+        joined = ds.mirror_joined.values if "mirror_joined" in ds else np.zeros(ds.sizes["component"], dtype=bool)
         comps = [
             MapComponent(
                 float(a), float(r), tuple(float(v) for v in box), bool(f),
-                nodes("node_x", k), nodes("node_y", k), nodes("node_cell", k), bool(s), bool(lim),
+                nodes("node_x", k), nodes("node_y", k), nodes("node_cell", k), bool(s), bool(lim), bool(m),
             )
-            for k, (a, r, box, f, s, lim) in enumerate(zip(
+            for k, (a, r, box, f, s, lim, m) in enumerate(zip(
                 ds.area.values, ds.inscribed_radius.values, ds.bbox.values.reshape(-1, 4),
-                ds.touches_floor.values, ds.encloses_slivers.values, limited,
+                ds.touches_floor.values, ds.encloses_slivers.values, limited, joined,
             ), start=1)
         ]  # fmt: skip
+        pair = pair_of(ds) if "particle_kind" in ds.attrs else None
         values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items() if name in ds.attrs}
-        return cls(comps, **values, pair=pair_of(ds) if "particle_kind" in ds.attrs else None)
+        return cls(mirror_joined(comps, pair), **values, pair=pair)  # maps saved before the join get it here
 
 
 # Attributes of a ``sesp.map`` dataset that rebuild its ExcludedMap, with their types.
@@ -504,7 +546,7 @@ def excluded_map(
         everywhere = np.ones((base, base), dtype=bool)
         pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
     found = [_component(p, floor, zoom) for p, _ in pieces if p is not None]
-    found = sorted(joined_specks(found, floor, zoom, ctx.centre), key=lambda c: -c.area)
+    found = mirror_joined(joined_specks(found, floor, zoom, ctx.centre), pair)
     return ExcludedMap(
         found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre
     )
@@ -585,12 +627,80 @@ def _across_centre(point, others, centre):
 
 
 def _merged(a: MapComponent, b: MapComponent) -> MapComponent:
+    """One component of two: areas summed, the larger inscribed radius (a lower bound), boxes and nodes joined,
+    each flag set if either's is."""
     box = (min(a.bbox[0], b.bbox[0]), max(a.bbox[1], b.bbox[1]), min(a.bbox[2], b.bbox[2]), max(a.bbox[3], b.bbox[3]))
     return MapComponent(
-        a.area + b.area, max(a.inscribed_radius, b.inscribed_radius), box, True,
+        a.area + b.area, max(a.inscribed_radius, b.inscribed_radius), box, a.touches_floor or b.touches_floor,
         np.concatenate([a.x, b.x]), np.concatenate([a.y, b.y]), np.concatenate([a.cell, b.cell]),
         a.encloses_slivers or b.encloses_slivers, a.floor_limited or b.floor_limited,
+        a.mirror_joined or b.mirror_joined,
     )  # fmt: skip
+
+
+def mirror_joined(found: list, pair) -> list:
+    """``found`` (components of a map of ``pair``), largest first, with the partition made its own mirror image
+    about the x-axis where the pair is mirror symmetric (:attr:`sesp.Pair.mirror_symmetric`).
+
+    The excluded set of such a pair is its own mirror image, and so is its partition into components. The
+    persistence rule judges a neck against the bodies as merged so far, so where two mirror lobes meet a
+    thinner part on the axis (a strip, the n = 8 body's tail near Ψ = π) at mirror necks each passing the
+    rule's join test against that part, the first neck joins lobe and strip and the second is judged against
+    lobe and strip together, and parts the other lobe: one lobe off the axis, the other holding the strip. So
+    each component's mirror image is followed (its nodes mirrored, each weighed by its cell's area, in the
+    component whose cell holds it), and the component holding most of it is its twin: a component along the
+    axis (:func:`_along_axis`) is its own twin, and the two of a mirror pair off the axis are each other's.
+    Where a component's twin is another and it lies along the axis, or its twin's twin is not itself, the
+    two are joined, as the rule joins at each neck judged alone; repeated until none is. Two bodies the rule
+    parted at a pinch on the axis are left apart: the pinch's nodes go to one of them, which then touches
+    the axis only at that point (n = 4's crescents at Ψ = 174.6875°). Joined components are
+    marked ``mirror_joined`` (unresolved: the count is that convention's). Components read without their
+    nodes are left as they are.
+    """
+    found = sorted(found, key=lambda c: -c.area)
+    if pair is None or not pair.mirror_symmetric or len(found) < 2 or not all(len(c.x) for c in found):
+        return found
+    while True:
+        twins = _mirror_twins(found)
+        graph = np.zeros((len(found), len(found)), dtype=bool)
+        for k, twin in enumerate(twins):
+            if twin is not None and twin != k and (_along_axis(found[k]) or twins[twin] != k):
+                graph[k, twin] = True
+        if not graph.any():
+            return found
+        _, group = connected_components(graph, directed=False)
+        groups = {}
+        for g, c in zip(group, found):
+            groups[g] = c if g not in groups else replace(_merged(groups[g], c), mirror_joined=True)
+        found = sorted(groups.values(), key=lambda c: -c.area)
+
+
+def _along_axis(component: MapComponent) -> bool:
+    """Whether the component's nodes on the x-axis (y = 0 within half a cell) span at least ``PINCH_RATIO``
+    times its inscribed radius along it: a part on the axis, not the point of a pinch (whose nodes go to
+    either body the rule parted there: 0.0014 b of a 0.037 b deep crescent of n = 4 at Ψ = 174.6875°, where
+    the n = 8 body's tail at 179.0625° spans 0.60 b)."""
+    on = np.abs(component.y) < 0.5 * component.cell
+    if not on.any():
+        return False
+    span = component.x[on].max() - component.x[on].min() + component.cell[on].max()
+    return bool(span >= PINCH_RATIO * component.inscribed_radius)
+
+
+def _mirror_twins(found: list) -> list:
+    """Per component, the index of the component that holds most of its mirror image (None if none does)."""
+    x = np.concatenate([c.x for c in found])
+    y = np.concatenate([c.y for c in found])
+    cell = np.concatenate([c.cell for c in found])
+    label = np.concatenate([np.full(len(c.x), k) for k, c in enumerate(found)])
+    distance, nearest = cKDTree(np.column_stack([x, y])).query(np.column_stack([x, -y]), p=np.inf)
+    inside = distance <= 0.5 * np.maximum(cell, cell[nearest]) * (1 + 1e-9)
+    twins = []
+    for k in range(len(found)):
+        mine = (label == k) & inside
+        share = np.bincount(label[nearest[mine]], weights=cell[mine] ** 2, minlength=len(found))
+        twins.append(int(np.argmax(share)) if share.any() else None)
+    return twins
 
 
 def _component(piece: _Piece, floor: float, zoom: int) -> MapComponent:

@@ -111,7 +111,8 @@ def format_map_transitions(result, family=None) -> str:
             f"  * {map_change(result, t)} at Psi in"
             f" [{float(result.low_degrees[t]):.3f}, {float(result.high_degrees[t]):.3f}]"
             + ("  (unresolved: a component that changes in it is seen only at the floor, encloses allowed slivers"
-               " that may part it, or is thinner than the polylines depart from the curves)" if unresolved else "")
+               " that may part it, is thinner than the polylines depart from the curves, or was joined so that"
+               " the partition is its own mirror image)" if unresolved else "")
         )  # fmt: skip
     return "\n".join(lines)
 
