@@ -369,9 +369,9 @@ class ExcludedMap:
 
         The excluded set of such a pair is its own mirror image (the state (x, −y, −φ) is the state (x, y, φ)
         mirrored), and so is its partition into components: each component is its own mirror image or one of a
-        mirror pair. A map whose partition is not (a body parted from one lobe and joined to the other, as
-        n = 10 at Ψ = 179.6875° on 128 base cells) judged a neck and its mirror image differently, each near
-        the rule's threshold: neither verdict is settled. A component's mirror image is taken to be a
+        mirror pair. A map whose partition is not judged a neck and its mirror image differently (the rule
+        parted one lobe from a body and kept the other: n = 10 at Ψ = 179.6875° on 128 base cells, before
+        :func:`mirror_joined`), so neither verdict is settled. A component's mirror image is taken to be a
         component when some component's bounding box is the mirrored box to within two base cells on each
         side (boundaries of thick parts are settled by the base cells). The maps join such components where
         their nodes show how (:func:`mirror_joined`); what is left here has no mirror image at all (a speck of
