@@ -131,6 +131,13 @@ thick bodies are not joined through specks, nor across the centre's
 certified pinch); only a part with no component that near is counted on
 its own, marked ``floor_limited``.
 
+For a mirror-symmetric pair the partition is made its own mirror image, as
+the set's is (:func:`mirror_joined`): the rule judges a neck against the
+bodies merged so far, so it can join one of two mirror lobes to a strip on
+the axis and part the other (n = 8 at Ψ = 179.0625°); each component is
+joined to the one holding most of its mirror image where it lies along the
+axis or the two are not each other's mirror image, and marked.
+
 Refinement
 ----------
 A window is refined (looked at again ``zoom`` times finer, on the bounding
