@@ -516,7 +516,7 @@ def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch, ca
 
 
 def _piece(ymin, ymax):
-    return maps.MapComponent(1.0, 0.1, (-1.0, 1.0, ymin, ymax), False, np.empty(0), np.empty(0), np.empty(0))
+    return _boxed(-1.0, 1.0, ymin, ymax)
 
 
 def test_transition_search_sees_changes_that_leave_the_count_unchanged_over_a_step(monkeypatch):

@@ -315,7 +315,7 @@ class MapComponent:
     mirror_joined: bool = False
 
     def as_dict(self) -> dict:
-        """JSON-ready: area, inscribed radius, bounding box, floor and sliver flags."""
+        """JSON-ready: area, inscribed radius, bounding box, floor, sliver and mirror flags."""
         return {
             "area": self.area,
             "inscribed_radius": self.inscribed_radius,
@@ -376,28 +376,28 @@ class ExcludedMap:
 
         The excluded set of such a pair is its own mirror image (the state (x, −y, −φ) is the state (x, y, φ)
         mirrored), and so is its partition into components: each component is its own mirror image or one of a
-        mirror pair. A map whose partition is not judged a neck and its mirror image differently (the rule
-        parted one lobe from a body and kept the other: n = 10 at Ψ = 179.6875° on 128 base cells, before
-        :func:`mirror_joined`), so neither verdict is settled. A component's mirror image is taken to be a
-        component when some component's bounding box is the mirrored box to within two base cells on each
-        side (boundaries of thick parts are settled by the base cells). The maps join such components where
-        their nodes show how (:func:`mirror_joined`); what is left here has no mirror image at all (a speck of
-        the floor seen on one side only).
+        mirror pair. A map whose partition is not its own mirror image judged a neck and its mirror image
+        differently (the rule parted one lobe from a body and kept the other: n = 10 at Ψ = 179.6875° on 128
+        base cells, before :func:`mirror_joined`), so neither verdict is settled. A component's mirror image is
+        taken to be a component when some component's bounding box is the mirrored box to within two base
+        cells on each side (boundaries of thick parts are settled by the base cells). The maps join such
+        components where their nodes show how (:func:`mirror_joined`); what is left here has no mirror image
+        at all (a speck of the floor seen on one side only).
         """
         if self.pair is None or not self.pair.mirror_symmetric:
             return ()
-        tolerance = 2 * 2 * self.reach / (self.base_cells - 2)  # two base cells (excluded_map's h)
+        tolerance = 2 * base_cell(self.reach, self.base_cells)
         boxes = np.array([c.bbox for c in self.components], dtype=float).reshape(-1, 4)
         mirrored = boxes[:, [0, 1, 3, 2]] * np.array([1.0, 1.0, -1.0, -1.0])
         match = np.all(np.abs(mirrored[:, None, :] - boxes[None, :, :]) <= tolerance, axis=2)
         return tuple(c for c, found in zip(self.components, match.any(axis=1)) if not found)
 
     def dataset(self) -> xr.Dataset:
-        """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor and sliver
-        flags and ``unresolved`` (:meth:`limit` is not ""), largest first; the map's resolution, the polylines'
-        ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes; and the excluded
-        nodes (``node_x``, ``node_y``, ``node_cell``, b, and ``node_component``, over ``node``), so that a map read
-        back can be drawn (:func:`sesp.plot.component_map`)."""
+        """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor, sliver and
+        mirror flags and ``unresolved`` (:meth:`limit` is not ""), largest first; the map's resolution, the
+        polylines' ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes; and
+        the excluded nodes (``node_x``, ``node_y``, ``node_cell``, b, and ``node_component``, over ``node``), so
+        that a map read back can be drawn (:func:`sesp.plot.component_map`)."""
         comps = self.components
         box = np.array([c.bbox for c in comps], dtype=float).reshape(-1, 4)
         label = np.concatenate([np.full(len(c.x), k, dtype=np.int32) for k, c in enumerate(comps, start=1)] or [[]])
@@ -544,7 +544,7 @@ def excluded_map(
     if zoom % 2 == 0:
         raise ValueError(f"zoom must be odd (3, 5, ..., 15): each refined cell's centre is then a node; got {zoom}")
     pair = as_pair(particle, other, segments)
-    h = 2 * pair.reach / (base - 2)  # at least half a cell beyond the reach on each side
+    h = base_cell(pair.reach, base)
     # A node on each axis, for even bases too (one more cell left and below): the pinches and wedges of a
     # mirror-symmetric pair's excluded set lie on them (the wedge at x = 0 that parts lens and body for small Ψ).
     start = -(base // 2 + 0.5) * h
@@ -557,6 +557,12 @@ def excluded_map(
     return ExcludedMap(
         found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre
     )
+
+
+def base_cell(reach: float, base: int) -> float:
+    """Side (b) of the first window's cells: ``base`` of them span twice the pair's ``reach`` and at least half
+    a cell more on each side."""
+    return 2 * reach / (base - 2)
 
 
 def _is_speck(component: MapComponent, floor: float, zoom: int) -> bool:
