@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 import xarray as xr
 from scipy import ndimage
+from scipy.sparse.csgraph import connected_components
 
-from sesp import Polyline, SeSP, allowed_orientations, maps
+from sesp import Polyline, SeSP, allowed_orientations, channels, maps
 from sesp.cli import main
 from sesp.dataset import SespFileError
 from sesp.io import load, save
@@ -238,15 +239,61 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
     assert both.unresolved.values[1].tolist() == [False] * both.sizes["component"]  # padded to the polygon's 5
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("base", [97, 128])
+def test_the_asp_crescents_at_0_3_degrees_are_followed_and_part_lens_and_body(base, tmp_path):
+    """At Ψ = 0.3125° the ASP's lens and body (exact: two components) are parted by crescents at most
+    2·sin(Ψ/2) = 0.0055 b wide, an eighth of a cell of 97 (97 cells saw one body before). The channels
+    through the base window's slivers are followed with certified disks: two components, resolved, on both
+    grids, the lens within 1% of its exact area (π − Ψ) − sin Ψ; every disk's points are allowed."""
+    psi = math.radians(0.3125)
+    found = excluded_map(SeSP(n=2, opening=psi), base=base, floor=1e-4)
+    assert found.count == 2 and found.channels > 100
+    assert not any(found.limit(c) for c in found.components)
+    lens = min(found.components, key=lambda c: c.area)
+    assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.01)
+    assert lens.bbox[0] > -0.05 and lens.bbox[1] == pytest.approx(2 * math.cos(psi / 2), abs=0.05)
+    back = ExcludedMap.from_dataset(load(save(found.dataset(), tmp_path / "map.nc")))
+    assert back.channels == found.channels and back.count == 2
+
+
+def test_channel_disks_hold_only_allowed_positions_and_overlap_along_the_path():
+    """The disks a channel is followed with (sesp.channels) are proven allowed by the clearance certificate:
+    random points inside them are allowed, exact in φ, and each disk overlaps the next one of its path."""
+    pair = as_pair(SeSP(n=2, opening=math.radians(2.5)))
+    psi = math.radians(2.5)
+    seed = (math.cos(psi / 2), 1.0)  # the middle of the upper crescent, between the circles about the end points
+    disks = channels.traced_channels(pair, [seed], cell=0.04, floor=1e-4)
+    assert len(disks) > 50 and np.all(disks[:, 2] > 0) and np.all(disks[:, 2] <= 0.04)
+    rng = np.random.default_rng(5)
+    pick = disks[rng.choice(len(disks), 200)]
+    r = pick[:, 2] * np.sqrt(rng.uniform(0, 1, 200))
+    angle = rng.uniform(0, 2 * np.pi, 200)
+    width, _ = widest_window(pair, pick[:, 0] + r * np.cos(angle), pick[:, 1] + r * np.sin(angle))
+    assert np.all(width > 0)
+    apart = np.hypot(*(disks[:, None, :2] - disks[None, :, :2]).transpose(2, 0, 1))
+    overlap = apart < disks[:, None, 2] + disks[None, :, 2]
+    assert connected_components(overlap, directed=False)[0] == 1  # one chain through the seed, both arms
+    # the path runs in the exact allowed set: inside the crescent (the first end point's unit disk, not the
+    # second's) from near the centre, and out beyond |t| = 2cos(Ψ/2), where the crescent opens
+    e = np.array([math.cos(psi / 2), math.sin(psi / 2)])
+    inside1 = np.hypot(*(disks[:, :2] - e).T) <= 1 + 1e-3
+    outside2 = np.hypot(*(disks[:, :2] - e * [1, -1]).T) >= 1 - 1e-3
+    beyond = np.hypot(*disks[:, :2].T) >= 2 * math.cos(psi / 2) - 1e-3
+    assert np.all((inside1 & outside2) | beyond) and beyond.any()
+    assert np.hypot(*disks[:, :2].T).min() < 0.01
+
+
 def test_a_component_that_encloses_allowed_slivers_is_marked():
-    """At Ψ = 0.625° the ASP's lens and body (exact: two components) are parted by crescents about Ψ·b/2 =
-    0.005 b thick, a tenth of a cell of 65. The map sees one component, with allowed nodes inside it where a
-    crescent passed through a node: it is marked "slivers" (it may be more than one). At 90° nothing is."""
-    thin = excluded_map(SeSP(n=2, opening=math.radians(0.625)), base=65, floor=1e-4)
-    assert thin.count == 1 and thin.components[0].encloses_slivers
-    assert thin.limit(thin.components[0]) == "slivers" and thin.dataset().unresolved.values.tolist() == [True]
-    wide = excluded_map(ASP90, base=64, floor=1e-4)
-    assert wide.count == 2 and not any(c.encloses_slivers for c in wide.components)
+    """A component that encloses allowed nodes in clusters at most two nodes deep (slivers seen only where a
+    node fell in them) is marked; one whose hole is deeper is not."""
+    labels = np.zeros((12, 12), dtype=np.int64)
+    labels[1:11, 1:11] = 1
+    labels[5, 5] = 0  # a one-node sliver
+    flagged, nodes = maps._slivers(labels, labels > 0)
+    assert flagged == {1} and nodes.sum() == 1 and nodes[5, 5]
+    labels[3:9, 3:9] = 0  # a hole 6 nodes across: an allowed region the cells resolve
+    assert maps._slivers(labels, labels > 0)[0] == set()
 
 
 def test_asymmetric_polyline_components_off_every_axis_match_a_brute_force_raster():
@@ -661,6 +708,7 @@ def test_cli_one_opening_as_json(capsys):
         out["components"][0]
     )
     assert out["components"][0]["unresolved"] == "" and 0 < out["departure"] < 1e-4
+    assert out["channel_disks"] == 0  # no sliver at 90°: no channel followed
 
 
 def test_cli_one_opening_keeps_its_map_in_the_maps_folder(tmp_path, capsys):

@@ -361,6 +361,7 @@ def _map_json(found, degrees) -> dict:
         "base_cells": found.base_cells,
         "finest_cell": found.finest,
         "positions": found.positions,
+        "channel_disks": found.channels,
     }
 
 

@@ -35,11 +35,21 @@ floor (a thick body's tapering tip does), which leaves its count settled.
 Nor does an excluded node say how deep in E it lies: an allowed sliver
 thinner than the cells that no node falls in is invisible, and the bodies on
 either side of it are seen as one. The ASP's lens and body, for small Ψ, are
-parted only by two allowed crescents about Ψ·b/2 thick, so the opening below
-which the map sees them as one depends on the base grid (a few tenths of a
-degree to about 2°, ``benchmarks/README.md``). Where a sliver passed
-through a node, that node is allowed and enclosed by the component, which
-is marked (``MapComponent.encloses_slivers``: it may be more than one).
+parted only by two allowed crescents at most Ψ·b wide, so the opening below
+which a map sees them as one depended on the base grid (0.3° to 0.9° on 128
+and 97 cells). Where a sliver passed through a node of the base window, that
+node is allowed and enclosed by E, and the channel is followed from it
+(:mod:`sesp.channels`): a chain of overlapping disks, each proven allowed by
+the clearance certificate, both ways until the channel is as wide as the
+base cells, narrower than a tenth of the floor, or closed. The nodes whose
+cells meet the chain are left out of E when the components are counted, on
+every window, and each is given, for the areas, to a component beside it on
+its own side of the chain: the bodies either side are then apart on every
+grid up to where the chain ends (the ASP's lens and body at Ψ = 0.3125° on
+97 and 128 cells, where the crescents are 0.0055 b wide, their areas within
+1% of the exact lens, ``tests/test_maps.py``). A sliver found on a finer
+window is not followed; a component that still encloses one is marked
+(``MapComponent.encloses_slivers``: it may be more than one).
 The refinement never loses such a node: ``zoom`` is odd, so the centre of
 each refined cell is a node of the finer window, classified again with the
 same result. An allowed slit that a coarse node fell in stays open on every
@@ -191,6 +201,7 @@ from scipy import ndimage
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from .channels import meets, same_side, traced_channels
 from .checks import check_count, check_range
 from .dataset import SespFileError, base_attrs, format_of, pair_attrs, pair_of
 from .io import load, save
@@ -341,6 +352,7 @@ class ExcludedMap:
     zoom: int = ZOOM
     pair: object = field(default=None, repr=False, compare=False)  # the Pair mapped (None: read from a file)
     centre: float = 0.0  # b: the column x = 0 certified allowed this far around the centre's pinch (0: none)
+    channels: int = 0  # certified allowed disks along channels followed from the base window's slivers
 
     @property
     def count(self) -> int:
@@ -467,6 +479,7 @@ _MAP_ATTRS = {
     "departure": float,
     "zoom": int,
     "centre": float,  # absent from maps saved before the centre's pinch was certified
+    "channels": int,  # absent from maps saved before channels were followed
 }
 
 
@@ -503,6 +516,7 @@ class _Context:
     positions: int = 0
     finest: float = math.inf
     centre: float = 0.0  # b: half-length of the column x = 0 certified allowed around the centre's pinch; 0: none
+    channels: np.ndarray = field(default_factory=lambda: np.empty((0, 5)))  # certified allowed disks
 
 
 def excluded_map(
@@ -551,12 +565,13 @@ def excluded_map(
     with progress_bar(None, progress, "map", unit="pos") as bar:
         ctx = _Context(pair, floor, zoom, bar, centre=centre_pinch(pair, floor, _CENTRE_CELLS * h))
         everywhere = np.ones((base, base), dtype=bool)
-        pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False)
+        pieces = _window(ctx, start, start, h, everywhere, everywhere, None, None, outside=False, first=True)
     found = [_component(p, floor, zoom) for p, _ in pieces if p is not None]
     found = mirror_joined(joined_specks(found, floor, zoom, ctx.centre), pair)
     return ExcludedMap(
-        found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre
-    )
+        found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre,
+        channels=len(ctx.channels),
+    )  # fmt: skip
 
 
 def base_cell(reach: float, base: int) -> float:
@@ -760,7 +775,57 @@ def _classify(ctx, x0, y0, h, evaluate, inherited):
         column = _centre_column(x0, y0, h, evaluate.shape, ctx.centre)
         uncertain[column] |= excluded[column]
         excluded[column] = False
-    return excluded, uncertain & ~excluded
+    carved = _carve(ctx, x0, y0, h, excluded, uncertain)
+    return excluded, uncertain & ~excluded, carved
+
+
+def _carve(ctx, x0, y0, h, excluded, uncertain):
+    """The excluded nodes whose cells meet a certified allowed channel (``ctx.channels``,
+    :mod:`sesp.channels`), left out of E (in place); their cells are not certified either."""
+    carved = np.zeros(excluded.shape, dtype=bool)
+    if not len(ctx.channels) or not excluded.any():
+        return carved
+    iy, ix = np.nonzero(excluded)
+    cut = meets(ctx.channels, x0 + (ix + 0.5) * h, y0 + (iy + 0.5) * h, h)
+    carved[iy[cut], ix[cut]] = True
+    excluded[carved] = False
+    uncertain[carved] = True
+    return carved
+
+
+_NEIGHBOURS = np.array([(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx])
+
+
+def _sides(ctx, carved, labels, x0, y0, h):
+    """``labels`` with each carved node (:func:`_carve`) given the label of a neighbouring node on the same
+    side of the channel as itself (:func:`sesp.channels.same_side`), for the components' areas; 0 where none
+    is labelled."""
+    if not carved.any():
+        return labels
+    iy, ix = np.nonzero(carved)
+    same = same_side(ctx.channels, x0 + (ix + 0.5) * h, y0 + (iy + 0.5) * h, _NEIGHBOURS[:, 1] * h,
+                     _NEIGHBOURS[:, 0] * h)  # fmt: skip
+    ny = np.clip(iy[:, None] + _NEIGHBOURS[None, :, 0], 0, labels.shape[0] - 1)
+    nx = np.clip(ix[:, None] + _NEIGHBOURS[None, :, 1], 0, labels.shape[1] - 1)
+    near = np.where(same, labels[ny, nx], 0)
+    out = labels.copy()
+    out[iy, ix] = near.max(axis=1)
+    return out
+
+
+def _sliver_channels(ctx, x0, y0, h, excluded):
+    """Certified allowed disks along the channels through the allowed slivers that the excluded parts of
+    the base window enclose (:func:`sesp.channels.traced_channels`)."""
+    parts, _ = ndimage.label(excluded, np.ones((3, 3), dtype=bool))
+    _, nodes = _slivers(parts, excluded)
+    iy, ix = np.nonzero(nodes)
+    seeds = np.column_stack([x0 + (ix + 0.5) * h, y0 + (iy + 0.5) * h])
+
+    def tick(count):
+        ctx.positions += count
+        ctx.bar.update(count)
+
+    return traced_channels(ctx.pair, seeds, h, ctx.floor, tick)
 
 
 def _centre_column(x0, y0, h, shape, half_length):
@@ -834,8 +899,9 @@ def _disk(radius):
 
 
 def _window(
-    ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None, above=None, necks_above=None
-):
+    ctx, x0, y0, h, evaluate, active, inherited, owner_grid, outside=True, assumed=None, above=None, necks_above=None,
+    first=False,
+):  # fmt: skip
     """The pieces of E seen on one window of nodes spaced h, lower-left corner (x0, y0).
 
     ``evaluate``: nodes classified here; the others keep the coarser
@@ -850,12 +916,17 @@ def _window(
     the part it belonged to, so that a body cut by this window's edge keeps
     its depth (see :func:`_untapered`). ``necks_above``: per node, the
     width (b) of the undecided neck the coarser window refined there, 0
-    elsewhere (see :func:`_waists`).
+    elsewhere (see :func:`_waists`). ``first``: this is the base window,
+    whose allowed slivers are followed as channels (:func:`_sliver_channels`)
+    and left out of E here and on every finer window (:func:`_carve`).
 
     Returns a list of (piece or None, owners): each component found here,
     with the coarser components it touches (to be joined with them).
     """
-    excluded, uncertain = _classify(ctx, x0, y0, h, evaluate, inherited)
+    excluded, uncertain, carved = _classify(ctx, x0, y0, h, evaluate, inherited)
+    if first:
+        ctx.channels = _sliver_channels(ctx, x0, y0, h, excluded)
+        carved = _carve(ctx, x0, y0, h, excluded, uncertain)
     if not excluded.any() and not (uncertain & active).any():
         return []
     counted = evaluate if assumed is None else evaluate | assumed
@@ -884,7 +955,7 @@ def _window(
         zone |= _uncounted(found, excluded, uncertain) & active
     zone, stopped = _affordable(zone, ctx.zoom)
     local = _local_pieces(found, dist, active & (~zone if not at_floor else True), owner_grid, ~active,
-                          x0, y0, h, at_floor, stopped)  # fmt: skip
+                          x0, y0, h, at_floor, stopped, _sides(ctx, carved, found.labels, x0, y0, h))  # fmt: skip
     if at_floor or not zone.any():
         return list(local.values())
     return _refine(ctx, x0, y0, h, excluded, zone, found, local, dist, depth, neck_width)
@@ -929,11 +1000,12 @@ def _waists(found, necks_above, h, excluded, dist):
     return renumbered(merged[found.labels], excluded, found.measure, dist, necks)
 
 
-def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped):
+def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, stopped, sides):
     """Label -> (piece of its nodes in ``keep``, or None; the coarser components it shares nodes with in
-    ``coarse``, the cells the coarser window decided, as {component: nodes shared})."""
+    ``coarse``, the cells the coarser window decided, as {component: nodes shared}). A piece holds the nodes
+    that ``sides`` gives its label: its own, and the carved nodes beside it (:func:`_sides`)."""
     local = {}
-    slivers = _enclosing_slivers(found.labels, dist > 0)  # dist > 0: the excluded nodes
+    slivers, _ = _slivers(found.labels, dist > 0)  # dist > 0: the excluded nodes
     undecided = {int(k) for row in found.necks for k in row[1:3]} if at_floor else set()
     undecided |= _thin_joins(found.labels, dist) if at_floor else set()
     for k in range(1, found.count + 1):
@@ -942,7 +1014,7 @@ def _local_pieces(found, dist, keep, owner_grid, coarse, x0, y0, h, at_floor, st
         if owner_grid is not None:
             values, shared = np.unique(owner_grid[mine & coarse], return_counts=True)
             owners = {int(v): int(c) for v, c in zip(values, shared) if v}
-        nodes = mine & keep
+        nodes = (sides == k) & keep
         piece = None
         if nodes.any():
             iy, ix = np.nonzero(nodes)
@@ -987,10 +1059,12 @@ def _thin_joins(labels, dist):
     return out
 
 
-def _enclosing_slivers(labels, excluded):
-    """Labels of the components that enclose a cluster of nodes not in ``excluded`` no more than ``_SLIVER``
-    nodes from it on every side: allowed slivers seen only at the nodes that fell in them."""
+def _slivers(labels, excluded):
+    """(labels of the components that enclose a cluster of nodes not in ``excluded`` no more than ``_SLIVER``
+    nodes from it on every side, the nodes of those clusters): allowed slivers seen only at the nodes that
+    fell in them."""
     out = set()
+    nodes = np.zeros(labels.shape, dtype=bool)
     for k, box in enumerate(ndimage.find_objects(labels), start=1):
         if box is None:
             continue
@@ -999,9 +1073,11 @@ def _enclosing_slivers(labels, excluded):
             continue
         clusters, count = ndimage.label(enclosed)
         depth = ndimage.distance_transform_edt(enclosed)
-        if np.any(ndimage.maximum(depth, clusters, np.arange(1, count + 1)) <= _SLIVER):
+        thin = ndimage.maximum(depth, clusters, np.arange(1, count + 1)) <= _SLIVER
+        if np.any(thin):
             out.add(k)
-    return out
+            nodes[box] |= np.concatenate([[False], thin])[clusters]
+    return out, nodes
 
 
 def _affordable(zone, zoom):
