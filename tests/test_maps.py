@@ -284,6 +284,22 @@ def test_channel_disks_hold_only_allowed_positions_and_overlap_along_the_path():
     assert np.hypot(*disks[:, :2].T).min() < 0.01
 
 
+def test_base_slivers_are_the_seeds_of_the_channels_and_none_where_the_cells_see_the_set():
+    """The ASP at Ψ = 0.3125° on 97 cells: a few allowed nodes enclosed by the excluded set, each in the exact
+    allowed set (in one end point's unit disk only), to within how far the polylines depart from the arcs;
+    at 90° none."""
+    psi = math.radians(0.3125)
+    asp = SeSP(n=2, opening=psi)
+    seeds = maps.base_slivers(asp, base=97, floor=1e-4)
+    assert 2 <= len(seeds) <= 40
+    e = np.array([math.cos(psi / 2), math.sin(psi / 2)])
+    d1 = np.hypot(*(seeds - e).T) - 1  # signed distance to the unit circle about each end point
+    d2 = np.hypot(*(seeds - e * [1, -1]).T) - 1
+    near = np.minimum(abs(d1), abs(d2)) <= as_pair(asp).departure
+    assert np.all((np.sign(d1) != np.sign(d2)) | near) and not near.all()
+    assert len(maps.base_slivers(ASP90, base=97, floor=1e-4)) == 0
+
+
 def test_a_component_that_encloses_allowed_slivers_is_marked():
     """A component that encloses allowed nodes in clusters at most two nodes deep (slivers seen only where a
     node fell in them) is marked; one whose hole is deeper is not."""

@@ -779,6 +779,32 @@ def _classify(ctx, x0, y0, h, evaluate, inherited):
     return excluded, uncertain & ~excluded, carved
 
 
+def _sliver_seeds(excluded, x0, y0, h):
+    """(m, 2) positions (b) of the allowed slivers that the excluded nodes of a window enclose."""
+    parts, _ = ndimage.label(excluded, np.ones((3, 3), dtype=bool))
+    _, nodes = _slivers(parts, excluded)
+    iy, ix = np.nonzero(nodes)
+    return np.column_stack([x0 + (ix + 0.5) * h, y0 + (iy + 0.5) * h])
+
+
+def base_slivers(
+    particle, *, other=None, segments: int = DEFAULT_SEGMENTS, base: int = BASE_CELLS, floor: float = FLOOR
+) -> np.ndarray:
+    """(m, 2) positions (b) of the allowed slivers on the base window of :func:`excluded_map`: the seeds of
+    the channels it follows (:mod:`sesp.channels`). Where there are none, the map is made as if channels were
+    never followed. Arguments as in :func:`excluded_map`."""
+    base = check_count("base", base, 8, 4096)
+    floor = check_range("floor", floor, 1e-12, 1.0, " b")
+    pair = as_pair(particle, other, segments)
+    h = base_cell(pair.reach, base)
+    start = -(base // 2 + 0.5) * h
+    with progress_bar(None, False, "map") as bar:
+        ctx = _Context(pair, floor, ZOOM, bar, centre=centre_pinch(pair, floor, _CENTRE_CELLS * h))
+        everywhere = np.ones((base, base), dtype=bool)
+        excluded, _, _ = _classify(ctx, start, start, h, everywhere, None)
+    return _sliver_seeds(excluded, start, start, h)
+
+
 def _carve(ctx, x0, y0, h, excluded, uncertain):
     """The excluded nodes whose cells meet a certified allowed channel (``ctx.channels``,
     :mod:`sesp.channels`), left out of E (in place); their cells are not certified either."""
@@ -816,10 +842,7 @@ def _sides(ctx, carved, labels, x0, y0, h):
 def _sliver_channels(ctx, x0, y0, h, excluded):
     """Certified allowed disks along the channels through the allowed slivers that the excluded parts of
     the base window enclose (:func:`sesp.channels.traced_channels`)."""
-    parts, _ = ndimage.label(excluded, np.ones((3, 3), dtype=bool))
-    _, nodes = _slivers(parts, excluded)
-    iy, ix = np.nonzero(nodes)
-    seeds = np.column_stack([x0 + (ix + 0.5) * h, y0 + (iy + 0.5) * h])
+    seeds = _sliver_seeds(excluded, x0, y0, h)
 
     def tick(count):
         ctx.positions += count
