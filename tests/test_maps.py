@@ -254,7 +254,18 @@ def test_the_asp_crescents_at_0_3_degrees_are_followed_and_part_lens_and_body(ba
     assert lens.area == pytest.approx((math.pi - psi) - math.sin(psi), rel=0.01)
     assert lens.bbox[0] > -0.05 and lens.bbox[1] == pytest.approx(2 * math.cos(psi / 2), abs=0.05)
     back = ExcludedMap.from_dataset(load(save(found.dataset(), tmp_path / "map.nc")))
-    assert back.channels == found.channels and back.count == 2
+    assert back.channels == found.channels == len(back.disks) and back.count == 2
+    assert np.array_equal(back.disks, found.disks)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from sesp.plot import component_map
+
+    ax = component_map(back)
+    assert [t.get_text() for t in ax.get_legend().get_texts()][-1].startswith("certified allowed channel")
+    plt.close(ax.figure)
 
 
 def test_channel_disks_hold_only_allowed_positions_and_overlap_along_the_path():

@@ -353,6 +353,7 @@ class ExcludedMap:
     pair: object = field(default=None, repr=False, compare=False)  # the Pair mapped (None: read from a file)
     centre: float = 0.0  # b: the column x = 0 certified allowed this far around the centre's pinch (0: none)
     channels: int = 0  # certified allowed disks along channels followed from the base window's slivers
+    disks: np.ndarray = field(default=None, repr=False, compare=False)  # those disks: (channels, 3) x, y, radius (b)
 
     @property
     def count(self) -> int:
@@ -407,9 +408,10 @@ class ExcludedMap:
     def dataset(self) -> xr.Dataset:
         """A ``sesp.map`` dataset: per component area, inscribed radius, bounding box, the floor, sliver and
         mirror flags and ``unresolved`` (:meth:`limit` is not ""), largest first; the map's resolution, the
-        polylines' ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes; and
-        the excluded nodes (``node_x``, ``node_y``, ``node_cell``, b, and ``node_component``, over ``node``), so
-        that a map read back can be drawn (:func:`sesp.plot.component_map`)."""
+        polylines' ``departure`` (b) and the pair (:func:`sesp.dataset.pair_attrs`) among the attributes; the
+        excluded nodes (``node_x``, ``node_y``, ``node_cell``, b, and ``node_component``, over ``node``), so
+        that a map read back can be drawn (:func:`sesp.plot.component_map`); and the certified disks of the
+        channels followed (``channel_x``, ``channel_y``, ``channel_radius``, b, over ``disk``)."""
         comps = self.components
         box = np.array([c.bbox for c in comps], dtype=float).reshape(-1, 4)
         label = np.concatenate([np.full(len(c.x), k, dtype=np.int32) for k, c in enumerate(comps, start=1)] or [[]])
@@ -419,6 +421,8 @@ class ExcludedMap:
 
         def flags(name):
             return "component", np.array([getattr(c, name) for c in comps], dtype=bool)
+
+        disks = np.empty((0, 3)) if self.disks is None else self.disks
 
         attrs = base_attrs("sesp.map") | ({} if self.pair is None else pair_attrs(self.pair))
         attrs |= {name: getattr(self, name) for name in _MAP_ATTRS}
@@ -438,6 +442,9 @@ class ExcludedMap:
                 "node_y": nodes("y"),
                 "node_cell": nodes("cell"),
                 "node_component": ("node", label.astype(np.int32)),
+                "channel_x": ("disk", disks[:, 0], {"units": "b"}),
+                "channel_y": ("disk", disks[:, 1], {"units": "b"}),
+                "channel_radius": ("disk", disks[:, 2], {"units": "b"}),
             },
             coords={"component": np.arange(1, len(comps) + 1)},
             attrs=attrs,
@@ -466,7 +473,10 @@ class ExcludedMap:
         ]  # fmt: skip
         pair = pair_of(ds) if "particle_kind" in ds.attrs else None
         values = {name: kind(ds.attrs[name]) for name, kind in _MAP_ATTRS.items() if name in ds.attrs}
-        return cls(mirror_joined(comps, pair), **values, pair=pair)  # maps saved before the join get it here
+        disks = None
+        if "channel_radius" in ds:  # absent from maps saved before channels were followed
+            disks = np.column_stack([ds.channel_x.values, ds.channel_y.values, ds.channel_radius.values])
+        return cls(mirror_joined(comps, pair), **values, pair=pair, disks=disks)  # older maps get the join here
 
 
 # Attributes of a ``sesp.map`` dataset that rebuild its ExcludedMap, with their types.
@@ -570,7 +580,7 @@ def excluded_map(
     found = mirror_joined(joined_specks(found, floor, zoom, ctx.centre), pair)
     return ExcludedMap(
         found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre,
-        channels=len(ctx.channels),
+        channels=len(ctx.channels), disks=ctx.channels[:, :3],
     )  # fmt: skip
 
 

@@ -521,13 +521,16 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
     Each excluded node is drawn as its cell (cells of every refinement level),
     outlined in its colour so that cells narrower than a pixel stay visible;
     the legend gives each component's area, inscribed radius and what it may
-    be an artefact of (:meth:`~sesp.maps.ExcludedMap.limit`). ``window``
+    be an artefact of (:meth:`~sesp.maps.ExcludedMap.limit`). The centres of
+    the certified disks along the allowed channels the map followed
+    (:mod:`sesp.channels`) are drawn as a black dotted path. ``window``
     (xmin, xmax, ymin, ymax; b) defaults to the components' bounding box,
     padded. ``particle`` draws the fixed particle in grey for scale. ``aspect``
     as in matplotlib: "auto" stretches y, to see strips along the axis a
     thousandth as thick as they are long.
     """
     from matplotlib.collections import PatchCollection
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, Rectangle
 
     ax = _axes(ax)
@@ -541,6 +544,10 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
         limit = f", unresolved: {limit}" if limit else ""
         label = f"{k}: area {comp.area:.3g} b$^2$, inscribed {comp.inscribed_radius:.2g} b{limit}"
         handles.append(Patch(color=color, label=label))
+    if found.disks is not None and len(found.disks):
+        ax.plot(found.disks[:, 0], found.disks[:, 1], ".", color="k", markersize=0.8)
+        label = f"certified allowed channel ({len(found.disks)} disks)"
+        handles.append(Line2D([], [], marker=".", linestyle="", color="k", markersize=5, label=label))
     if particle is not None:
         draw_particle(particle, ax, color="0.6", arrow=False, lw=1.0)
     if window is None and found.count:
