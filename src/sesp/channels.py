@@ -21,10 +21,11 @@ overlap; otherwise 0.9·c ahead, where any c' > 0 does. Each step thus
 extends a chain of overlapping allowed disks: a certified allowed path. It is followed both
 ways from the sliver until the channel is as wide as the cells (the grid
 sees it from there), or narrower than a tenth of the floor (a pinch), or no
-direction ahead is allowed (the channel ends, or is closed by the polylines'
-corners: with 256 segments the ASP's crescents at Ψ = 0.3125° within about
-0.03 b of the centre, where they are thinner than the polylines depart from
-the arc), or it leaves the pair's reach.
+direction ahead is allowed (the channel ends, or turns sharper than the
+directions tried), or it leaves the pair's reach. The ASP's crescents at
+Ψ = 0.3125° (256 segments, 97 cells) are followed from the outside of the
+set to 0.007 b from the centre, where the disks are 1e-5 b wide (a floor of
+1e-4 b): the rule judges the rest of the way to the centre's pinch.
 
 A map then leaves out of E every node whose cell meets a disk of the path
 (:func:`meets`), on every window, when it counts components: the cells a
