@@ -352,8 +352,14 @@ class ExcludedMap:
     zoom: int = ZOOM
     pair: object = field(default=None, repr=False, compare=False)  # the Pair mapped (None: read from a file)
     centre: float = 0.0  # b: the column x = 0 certified allowed this far around the centre's pinch (0: none)
-    channels: int = 0  # certified allowed disks along channels followed from the base window's slivers
-    disks: np.ndarray = field(default=None, repr=False, compare=False)  # those disks: (channels, 3) x, y, radius (b)
+    # certified allowed disks (x, y, radius; b) along the channels followed from the base window's slivers
+    disks: np.ndarray = field(default=None, repr=False, compare=False)
+
+    @property
+    def channels(self) -> int:
+        """How many certified disks the map followed channels with (:mod:`sesp.channels`); 0 for none, or for
+        a map saved before channels were followed."""
+        return 0 if self.disks is None else len(self.disks)
 
     @property
     def count(self) -> int:
@@ -489,7 +495,6 @@ _MAP_ATTRS = {
     "departure": float,
     "zoom": int,
     "centre": float,  # absent from maps saved before the centre's pinch was certified
-    "channels": int,  # absent from maps saved before channels were followed
 }
 
 
@@ -580,7 +585,7 @@ def excluded_map(
     found = mirror_joined(joined_specks(found, floor, zoom, ctx.centre), pair)
     return ExcludedMap(
         found, floor, base, pair.reach, ctx.positions, ctx.finest, pair.departure, zoom, pair, centre=ctx.centre,
-        channels=len(ctx.channels), disks=ctx.channels[:, :3],
+        disks=ctx.channels[:, :3],
     )  # fmt: skip
 
 
