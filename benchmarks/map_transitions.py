@@ -14,7 +14,15 @@ and the brackets not marked on either
 grid are compared too.
 
     python benchmarks/map_transitions.py [--n 2 4 8 10] [--bases 128 97] [--from 0] [--top 360] [--step 5]
-        [--floor 1e-7] [--out DIR] [--reuse] [--figures DIR]
+        [--floor 1e-7] [--finer LOW HIGH ...] [--out DIR] [--reuse] [--figures DIR]
+
+After the table it names the steps of Ψ whose brackets (or marks) differ
+between the grids. ``--finer LOW HIGH`` (degrees, may be given again)
+searches the steps in that range at a floor ten times finer on both grids
+(``map_transitions(finer=...)``; the maps in ``maps_n{n}_base{b}/floor_<f>``),
+and so each step beside one where the floors disagree at the opening they
+share: give it the steps named, and run again. A bracket found at the finer
+floor is printed with it, as ``[1e-05 b]``.
 
 ``--figures DIR``: the counts and the components' areas over Ψ on both grids
 (:func:`sesp.plot.map_transitions_plot`), ``map_transitions_n{n}.png`` per n.
@@ -43,13 +51,27 @@ from sesp import SeSP, map_transitions
 from sesp.report import map_change
 
 
-def brackets(result):
+def brackets(result, floor):
     """[(change, low_deg, high_deg)] of a transition dataset ("3 -> 3 (off axis 0 -> 2)" where only
-    the number of components off the axis changed)."""
-    return [
-        (map_change(result, t), float(lo), float(hi))
-        for t, (lo, hi) in enumerate(zip(result.low_degrees.values, result.high_degrees.values))
-    ]
+    the number of components off the axis changed; "[1e-05 b]" after it where found at a floor other
+    than ``floor``)."""
+    found = []
+    for t, (lo, hi) in enumerate(zip(result.low_degrees.values, result.high_degrees.values)):
+        at = float(result.transition_floor[t]) if "transition_floor" in result else floor
+        found.append((map_change(result, t) + (f" [{at:g} b]" if at != floor else ""), float(lo), float(hi)))
+    return found
+
+
+def differing_steps(first, second, low, step):
+    """The steps of Ψ ("165-170", degrees) whose brackets, with their marks, differ between two
+    searches: ``first`` and ``second`` give ((change, low_deg, high_deg), marked) per transition."""
+    by_step = [{}, {}]
+    for side, found in zip(by_step, (first, second)):
+        for bracket, marked in found:
+            k = int(math.floor((bracket[1] - low) / step + 1e-9))
+            side.setdefault(k, []).append((bracket, marked))
+    keys = sorted(set(by_step[0]) | set(by_step[1]))
+    return [f"{low + k * step:g}-{low + (k + 1) * step:g}" for k in keys if by_step[0].get(k) != by_step[1].get(k)]
 
 
 def unresolved(result):
@@ -82,6 +104,8 @@ def main():
     parser.add_argument("--top", type=float, default=360.0)
     parser.add_argument("--step", type=float, default=5.0)
     parser.add_argument("--floor", type=float, default=1e-7)
+    parser.add_argument("--finer", type=float, nargs=2, action="append", default=[], metavar=("LOW", "HIGH"),
+                        help="search the steps in LOW..HIGH degrees at a tenth of --floor")  # fmt: skip
     parser.add_argument("--out", type=Path, default=Path("."))
     parser.add_argument("--reuse", action="store_true", help="read searches already saved in --out")
     parser.add_argument("--figures", type=Path, default=None, help="save map_transitions_n{n}.png here")
@@ -91,6 +115,10 @@ def main():
         f"openings {args.low:g}..{args.top:g} deg every {args.step:g} deg, bisected to +-0.005 rad; "
         f"N = 256; floor {args.floor:g} b; base grids {args.bases[0]} and {args.bases[1]}"
     )
+    finer = [(math.radians(a), math.radians(b)) for a, b in args.finer]
+    if finer:
+        ranges = ", ".join(f"{a:g}-{b:g}" for a, b in args.finer)
+        print(f"steps in {ranges} deg (and beside them where the floors disagree) at a floor of {args.floor / 10:g} b")
     same_everywhere = same_resolved = True
     for n in args.n:
         found, seconds, flagged, searched = {}, {}, {}, {}
@@ -109,12 +137,13 @@ def main():
                 floor=args.floor,
                 progress=saved is None,
                 folder=maps,
+                finer=finer,
             )
             result.attrs["seconds"] = saved.attrs["seconds"] if saved is not None else time.perf_counter() - t0
             result.to_netcdf(path)
             searched[base] = result
             seconds[base] = result.attrs["seconds"]
-            found[base] = brackets(result)
+            found[base] = brackets(result, args.floor)
             flagged[base] = unresolved(result)
         if args.figures is not None:
             draw(n, {f"{base} cells": searched[base] for base in args.bases}, args.figures)
@@ -138,6 +167,8 @@ def main():
         table(
             rows, ["n", f"change {b1}", f"bracket {b1} (deg)", "width", f"change {b2}", f"bracket {b2} (deg)", "width"]
         )
+        differ = differing_steps(*(zip(found[base], flagged[base]) for base in args.bases), args.low, args.step)
+        print(f"n = {n:g}: steps whose brackets differ: {', '.join(differ) or 'none'}")
     verdict = "yes" if same_everywhere else "no"
     print("\n* unresolved: a component that changes in the bracket (sesp.maps.changed_components) is seen only at")
     print("  the floor, encloses allowed slivers that may part it, is thinner than the polylines depart from the")

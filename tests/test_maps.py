@@ -4,6 +4,7 @@ import dataclasses
 import functools
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -234,7 +235,7 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
     arc = excluded_map(SeSP(n=2, opening=psi), segments=256, base=48, floor=1e-4)
     assert arc.count == 2 and not any(arc.limit(c) for c in arc.components)
     assert arc.dataset().attrs["departure"] == pytest.approx(2 * sagitta, rel=1e-6)
-    both = _transitions_dataset({psi: polygon, psi + 0.01: arc}, [(psi, psi + 0.01)], 1e-4, 48)
+    both = _transitions_dataset({psi: (polygon, 1e-4), psi + 0.01: (arc, 1e-4)}, [(psi, psi + 0.01, 1e-4)], 1e-4, 48)
     assert both.transition_unresolved.values.tolist() == [True]
     assert both.unresolved.values[1].tolist() == [False] * both.sizes["component"]  # padded to the polygon's 5
 
@@ -620,6 +621,67 @@ def test_transition_search_sees_changes_that_leave_the_count_unchanged_over_a_st
     assert both.sizes["transition"] == 1 and map_change(both, 0) == "2 -> 2 (off axis 0 -> 2)"
     assert "2 -> 2 (off axis 0 -> 2) at Psi in" in format_map_transitions(both)
     assert map_change(result, 0) == "2 -> 1"
+
+
+def test_steps_given_as_finer_are_searched_at_a_tenth_of_the_floor_and_grow_where_the_floors_disagree(
+    monkeypatch, capsys
+):
+    """A body parts at 9.5° on maps at the floor and at 10.5° on maps ten times finer. Asking for 0-10° finer
+    searches that step at 1e-5 b, which sees no change in it and a state at 10° that the floor's map does not
+    share: the step beside it is searched finer too, and the one change is bracketed there, at 1e-5 b, and
+    nowhere at 1e-4 b."""
+    asked = []
+
+    def fake_map(folder, opening, pair, *, floor, **kwargs):
+        asked.append((folder, floor))
+        parts = math.degrees(opening) >= (9.5 if floor == 1e-4 else 10.5)
+        body = [_piece(-0.5, -0.01), _piece(0.01, 0.5)] if parts else [_piece(-0.5, 0.5)]
+        return ExcludedMap(body, floor=floor, base_cells=32, reach=2.0, positions=1, finest=floor)
+
+    monkeypatch.setattr(maps, "stored_map", fake_map)
+
+    def search(finer):
+        return map_transitions(SeSP(n=4), (0.0, math.radians(30)), step=math.radians(10), tolerance=math.radians(0.5),
+                               floor=1e-4, folder="saved", finer=finer)  # fmt: skip
+
+    plain = search(())
+    assert plain.low_degrees.item() < 9.5 <= plain.high_degrees.item() and plain.transition_floor.item() == 1e-4
+    assert {f for _, f in asked} == {1e-4}
+    asked.clear()
+    refined = search([(0.0, math.radians(10))])
+    assert refined.sizes["transition"] == 1
+    assert refined.low_degrees.item() < 10.5 <= refined.high_degrees.item() <= refined.low_degrees.item() + 1.0
+    assert refined.transition_floor.item() == 1e-5
+    floors = dict(zip(refined.opening_degrees.values.round(6), refined.map_floor.values))
+    assert floors[0.0] == floors[10.0] == floors[20.0] == 1e-5 and floors[30.0] == 1e-4  # 20-30 stays at the floor
+    assert {folder for folder, f in asked if f == 1e-5} == {Path("saved") / "floor_1e-05"}
+    (line,) = [line for line in format_map_transitions(refined).splitlines() if line.startswith("  * ")]
+    assert line.startswith("  * 1 -> 2 at Psi in [10.") and line.endswith("(floor 1e-05 b)")
+    command = ["topology", "--n", "4", "--opening-range", "0", "30", "--step", "10", "--tolerance", "0.5", "--floor",
+               "1e-4", "--maps-folder", "saved", "--quiet", "--json"]  # fmt: skip
+    capsys.readouterr()
+    assert main([*command, "--finer", "0", "10"]) == 0
+    (only,) = json.loads(capsys.readouterr().out)["transitions"]
+    assert (only["low_deg"], only["high_deg"], only["floor"]) == (
+        refined.low_degrees.item(), refined.high_degrees.item(), 1e-5
+    )  # fmt: skip
+    for wrong in (["--finer", "10", "5"], ["--finer", "0", "400"]):
+        with pytest.raises(ValueError, match="--finer must satisfy 0 <= LOW < HIGH <= 360"):
+            main([*command, "--debug", *wrong])
+    with pytest.raises(ValueError, match="--finer refines a search on adaptive maps"):
+        main(["topology", "--debug", "--opening", "90", "--finer", "0", "10"])
+
+
+def test_a_finer_range_ending_on_a_step_s_opening_does_not_reach_into_the_next_step():
+    """The openings of a search are low + k·step, so 170° may be a hair below math.radians(170): the range
+    165-170° given as finer is the one step 165-170°, not also 170-175° (where the floors agree)."""
+    step = math.radians(5)
+    openings = [float(o) for o in step * np.arange(73)]
+    assert openings[34] != math.radians(170)  # the rounding this guards against
+    steps = list(zip(openings[:-1], openings[1:]))
+    same = lambda opening: (1, 0)  # noqa: E731
+    assert maps._refined_steps(steps, [(math.radians(165), math.radians(170))], same, same) == {33}
+    assert maps._refined_steps(steps, [(math.radians(166), math.radians(171))], same, same) == {33, 34}
 
 
 def _change_unresolved(low, high):

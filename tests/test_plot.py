@@ -109,9 +109,9 @@ def _transitions(lens_ends):
     maps = {}
     for degrees in (0.0, 170.0, 175.0, 177.5, 180.0):
         parts = [component(1.0 - degrees / 200, False)] + ([component(1e-4, True)] if degrees < lens_ends else [])
-        maps[math.radians(degrees)] = ExcludedMap(parts, floor=1e-4, base_cells=32, reach=2.0, positions=1,
-                                                  finest=1e-4)  # fmt: skip
-    return _transitions_dataset(maps, [(math.radians(175.0), math.radians(177.5))], 1e-4, 32)
+        found = ExcludedMap(parts, floor=1e-4, base_cells=32, reach=2.0, positions=1, finest=1e-4)
+        maps[math.radians(degrees)] = (found, 1e-4)
+    return _transitions_dataset(maps, [(math.radians(175.0), math.radians(177.5), 1e-4)], 1e-4, 32)
 
 
 def test_map_transitions_plot_shades_brackets_and_hollows_unresolved_components(tmp_path):

@@ -169,6 +169,16 @@ def _add_topology(sub):
     p.add_argument("--floor", type=float, default=1e-7, help="adaptive map: smallest cell, b (default 1e-7)")
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
     p.add_argument(
+        "--finer",
+        nargs=2,
+        type=float,
+        action="append",
+        default=[],
+        metavar=("LOW", "HIGH"),
+        help="adaptive maps over Ψ: search the steps in LOW..HIGH degrees at a tenth of --floor, and each "
+        "step beside them where the two floors disagree (may be given again)",
+    )
+    p.add_argument(
         "--maps-folder",
         type=Path,
         default=None,
@@ -219,6 +229,9 @@ def _positive_degrees(name: str, value: float, low: float, high: float) -> float
 
 
 def _cmd_topology(args) -> int:
+    if args.finer and (args.opening is not None or not (args.json or args.map)):
+        raise ValueError("--finer refines a search on adaptive maps over Ψ: give it with --map or --json, "
+                         "not with --opening")  # fmt: skip
     if args.opening is not None or args.json or args.map:
         return _topology_on_maps(args)
     if args.plot is not None:
@@ -300,6 +313,9 @@ def _topology_on_maps(args) -> int:
     tolerance = _positive_degrees(
         "--tolerance", MAP_TOLERANCE_DEG if args.tolerance == TOLERANCE_DEG else args.tolerance, 1e-6, 90.0
     )
+    for low, high in args.finer:
+        if not (0.0 <= low < high <= 360.0):
+            raise ValueError(f"--finer must satisfy 0 <= LOW < HIGH <= 360 degrees, got {low} {high}")
     family = _shape_from_args(args, 0.0)
     result = map_transitions(
         family,
@@ -311,6 +327,7 @@ def _topology_on_maps(args) -> int:
         floor=args.floor,
         progress=not args.quiet,
         folder=args.maps_folder,
+        finer=[(math.radians(low), math.radians(high)) for low, high in args.finer],
     )
     print(json.dumps(_transitions_json(result)) if args.json else format_map_transitions(result, family))
     _save_map_plot(args.plot, "map_transitions_plot", result)
@@ -387,6 +404,7 @@ def _transitions_json(result) -> dict:
             "off_axis_low": int(result.off_axis_low[t]),
             "off_axis_high": int(result.off_axis_high[t]),
             "unresolved": bool(result.transition_unresolved[t]),
+            "floor": float(result.transition_floor[t]),
             "changed_low": _changed(result, "changed_low", t),
             "changed_high": _changed(result, "changed_high", t),
         }

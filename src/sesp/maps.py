@@ -1316,6 +1316,7 @@ def map_transitions(
     floor: float = FLOOR,
     progress: bool = False,
     folder=None,
+    finer=(),
 ) -> xr.Dataset:
     """Where the count of excluded components (:func:`excluded_map`) changes with the opening Ψ.
 
@@ -1335,6 +1336,16 @@ def map_transitions(
     map it was making, and the same call resumes it. A map there of another
     pair, base, floor or zoom is an error, not a silent mix.
 
+    ``finer``: ranges (low, high) of Ψ (radians); every step that overlaps
+    one is mapped and bisected at a floor ten times finer (its maps saved in
+    ``folder/floor_<finer floor>``), and so is the step beside it wherever
+    the two floors disagree at the opening they share, so that no change
+    hides between floors. Use it where a bracket moves with the base grid:
+    a change seen only at the floor (marked) can move by a degree when one
+    node of a neck is judged the other way (n = 4's tail near 168° at
+    1e-4 b: 168.12–168.44° on 128 cells, 167.19–167.50° on 97; at 1e-5 b
+    both say 168.12–168.44°, ``benchmarks/README.md``).
+
     Returns
     -------
     xarray.Dataset
@@ -1348,7 +1359,10 @@ def map_transitions(
         be the floor's or the polylines'; :func:`changed_components`) per
         ``transition``; ``changed_low``, ``changed_high`` (transition,
         component): which components at the low and the high end change
-        (numbered as at that opening); ``off_axis`` per opening.
+        (numbered as at that opening); ``off_axis`` per opening;
+        ``map_floor`` per opening and ``transition_floor`` per transition
+        (b): the floor the maps were made at (``floor``, or ten times finer
+        in the steps of ``finer``).
     """
     lo, hi = (float(v) for v in opening_range)
     if not (0.0 <= lo < hi and math.isfinite(hi)) or not (step > 0 and tolerance > 0):
@@ -1357,22 +1371,49 @@ def map_transitions(
         )
     openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
     openings = [float(o) for o in openings if o < 2 * math.pi]
+    steps = list(zip(openings[:-1], openings[1:]))
     make = opening_family(family)
-    maps = {}
     with progress_bar(None, progress, "maps over Ψ", unit="map") as bar:
 
-        def state(opening):
-            if opening not in maps:
-                pair = as_pair(make(opening), None, segments)
-                maps[opening] = stored_map(folder, opening, pair, base=base, floor=floor, progress=progress)
-                bar.update(1)
-            return maps[opening].count, maps[opening].off_axis
+        def states(at_floor, where):
+            """The maps made at ``at_floor`` (kept in ``where``), and the state of one opening."""
+            maps = {}
 
+            def state(opening):
+                if opening not in maps:
+                    pair = as_pair(make(opening), None, segments)
+                    maps[opening] = stored_map(where, opening, pair, base=base, floor=at_floor, progress=progress)
+                    bar.update(1)
+                return maps[opening].count, maps[opening].off_axis
+
+            return maps, state
+
+        coarse, coarse_state = states(floor, folder)
+        fine, fine_state = states(floor / 10, None if folder is None else Path(folder) / f"floor_{floor / 10:g}")
+        for opening in openings:
+            coarse_state(opening)
+        refined = _refined_steps(steps, finer, coarse_state, fine_state)
         brackets = []
-        for a, b in zip(openings[:-1], openings[1:]):
-            brackets += _bisect(state, a, b, tolerance)
-        state(openings[-1])
-    return _transitions_dataset(maps, brackets, floor, base)
+        for i, (a, b) in enumerate(steps):
+            at_floor, state = (floor / 10, fine_state) if i in refined else (floor, coarse_state)
+            brackets += [(low, high, at_floor) for low, high in _bisect(state, a, b, tolerance)]
+    floored = {o: (m, floor) for o, m in coarse.items()} | {o: (m, floor / 10) for o, m in fine.items()}
+    return _transitions_dataset(floored, brackets, floor, base)
+
+
+def _refined_steps(steps, finer, coarse_state, fine_state) -> set:
+    """Indices of the ``steps`` searched at the finer floor: those that overlap a range of ``finer`` (by more
+    than rounding: 170° in radians may end a step a hair above 170°), and, step by step, each beside one of
+    them where the two floors disagree at the opening they share."""
+    refined = {i for i, (a, b) in enumerate(steps) if any(min(b, hi) - max(a, lo) > 1e-9 for lo, hi in finer)}
+    todo = sorted(refined)
+    while todo:
+        i = todo.pop()
+        for j, shared in ((i - 1, steps[i][0]), (i + 1, steps[i][1])):
+            if 0 <= j < len(steps) and j not in refined and fine_state(shared) != coarse_state(shared):
+                refined.add(j)
+                todo.append(j)
+    return refined
 
 
 def stored_map(folder, opening, pair, *, base=BASE_CELLS, floor=FLOOR, progress=False) -> ExcludedMap:
@@ -1494,7 +1535,10 @@ def _bisect(state, low, high, tolerance):
     return _bisect(state, low, mid, tolerance) + _bisect(state, mid, high, tolerance)
 
 
-def _transitions_dataset(maps, brackets, floor, base):
+def _transitions_dataset(floored, brackets, floor, base):
+    """A search's dataset: ``floored`` {opening: (map, the floor it was made at)}, ``brackets`` [(low, high,
+    the floor of the maps that bracket it)]."""
+    maps = {o: m for o, (m, _) in floored.items()}
     openings = sorted(maps)
     width = max([maps[o].count for o in openings] + [1])
     area = np.full((len(openings), width), np.nan)
@@ -1507,7 +1551,7 @@ def _transitions_dataset(maps, brackets, floor, base):
             unresolved[i, k] = bool(maps[o].limit(c))
     low = np.array([b[0] for b in brackets])
     high = np.array([b[1] for b in brackets])
-    changes = [_change(maps[a], maps[b], width) for a, b in brackets]
+    changes = [_change(maps[a], maps[b], width) for a, b, _ in brackets]
     changed_low = np.array([c[0] for c in changes], dtype=bool).reshape(len(brackets), width)
     changed_high = np.array([c[1] for c in changes], dtype=bool).reshape(len(brackets), width)
     ends_unresolved = [c[2] for c in changes]
@@ -1520,6 +1564,7 @@ def _transitions_dataset(maps, brackets, floor, base):
             "touches_floor": (("opening", "component"), at_floor),
             "unresolved": (("opening", "component"), unresolved),
             "departure": ("opening", [maps[o].departure for o in openings], {"units": "b"}),
+            "map_floor": ("opening", [floored[o][1] for o in openings], {"units": "b"}),
             "low": ("transition", low, {"units": "rad"}),
             "high": ("transition", high, {"units": "rad"}),
             "low_degrees": ("transition", np.degrees(low), {"units": "degree"}),
@@ -1529,6 +1574,7 @@ def _transitions_dataset(maps, brackets, floor, base):
             "off_axis_low": ("transition", np.array([maps[b[0]].off_axis for b in brackets], dtype=int)),
             "off_axis_high": ("transition", np.array([maps[b[1]].off_axis for b in brackets], dtype=int)),
             "transition_unresolved": ("transition", np.array(ends_unresolved, dtype=bool)),
+            "transition_floor": ("transition", np.array([b[2] for b in brackets], dtype=float), {"units": "b"}),
             "changed_low": (("transition", "component"), changed_low),
             "changed_high": (("transition", "component"), changed_high),
         },

@@ -107,9 +107,11 @@ def format_map_transitions(result, family=None) -> str:
         lines.append("  none")
     for t in range(result.sizes["transition"]):
         unresolved = "transition_unresolved" in result and bool(result.transition_unresolved[t])
+        finer = "transition_floor" in result and float(result.transition_floor[t]) != result.attrs.get("floor")
         lines.append(
             f"  * {map_change(result, t)} at Psi in"
             f" [{float(result.low_degrees[t]):.3f}, {float(result.high_degrees[t]):.3f}]"
+            + (f" (floor {float(result.transition_floor[t]):g} b)" if finer else "")
             + ("  (unresolved: a component that changes in it is seen only at the floor, encloses allowed slivers"
                " that may part it, is thinner than the polylines depart from the curves, or was joined so that"
                " the partition is its own mirror image)" if unresolved else "")
