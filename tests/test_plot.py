@@ -121,6 +121,12 @@ def test_map_transitions_plot_shades_brackets_and_hollows_unresolved_components(
     assert zoomed.get_xlim() == (170, 181) and top.get_xlim()[1] == 190.0  # last with a component + 10
     assert [list(line.get_ydata()) for line in top.lines] == [[2, 2, 2, 1, 1]] * 2
     assert len(top.patches) == 2  # one bracket per search
+    assert [p.get_hatch() for p in top.patches] == [None, None]
+    finer = _transitions(176.0)
+    finer["transition_floor"] = finer.transition_floor / 10  # as map_transitions(finer=...) marks it
+    again = plot.map_transitions_plot({"32 cells": finer}, zoom=None)
+    assert [p.get_hatch() for p in again.axes[0].patches] == ["////"]
+    assert "bracket, maps at a finer floor" in [t.get_text() for t in again.axes[0].get_legend().get_texts()]
     hollow = [line for line in fig.axes[2].lines if line.get_markerfacecolor() == "none"]
     assert [len(line.get_xdata()) for line in hollow] == [3, 3]  # the lens at 0, 170 and 175 degrees
     (dashed,) = [line for line in fig.axes[2].lines if line.get_linestyle() == "--"]

@@ -575,7 +575,9 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=No
     base grid, say). Top: the count at every mapped opening, each
     transition's bracket shaded, with a dotted edge where it is unresolved
     (``transition_unresolved``: a component that changes in it may be the
-    floor's or the polylines'). Bottom: every component's area (b², log
+    floor's or the polylines') and hatched where it was found on maps at a
+    finer floor than the search's (``transition_floor``, the ``finer``
+    steps of :func:`sesp.map_transitions`). Bottom: every component's area (b², log
     scale) at every mapped opening, hollow where it is unresolved. The
     right-hand column repeats both over ``zoom`` (degrees; None, or a range
     searched less than three times as wide: no zoom), where the changes
@@ -586,6 +588,7 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=No
     """
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     from matplotlib.ticker import MaxNLocator
 
     if isinstance(results, xr.Dataset):
@@ -597,16 +600,20 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=No
     columns = 1 if zoom is None else 2
     fig = fig or plt.figure(figsize=(5.0 * columns + 1.0, 6.0), layout="constrained")
     axes = np.asarray(fig.subplots(2, columns, sharex="col", squeeze=False))
+    hatched = False
     for i, (label, ds) in enumerate(results.items()):
         color = f"C{i}"
         deg = ds.opening_degrees.values
         area = ds.area.values
         unresolved = ds.unresolved.values if "unresolved" in ds else np.zeros(area.shape, dtype=bool)
         flags = ds.transition_unresolved.values if "transition_unresolved" in ds else np.ones(ds.sizes["transition"])
+        finer = ds.transition_floor.values < ds.attrs["floor"] if "transition_floor" in ds else flags * False
+        hatched |= bool(np.any(finer))
         for top, bottom in axes.T:
             top.step(deg, ds["count"].values, where="post", color=color, lw=1.2, label=label or None)
-            for lo, hi, marked in zip(ds.low_degrees.values, ds.high_degrees.values, flags):
-                top.axvspan(lo, hi, color=color, alpha=0.25, ec=color, ls=":" if marked else "-", lw=0.8)
+            for lo, hi, marked, fine in zip(ds.low_degrees.values, ds.high_degrees.values, flags, finer):
+                top.axvspan(lo, hi, color=color, alpha=0.25, ec=color, ls=":" if marked else "-", lw=0.8,
+                            hatch="////" if fine else None)  # fmt: skip
             shown = ~np.isnan(area)
             solid = shown & ~unresolved
             hollow = shown & unresolved
@@ -637,6 +644,7 @@ def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=No
     handles, _ = axes[0, 0].get_legend_handles_labels()
     handles += [
         Line2D([], [], color="0.4", lw=6, alpha=0.25, label="bracket of a change"),
+        *([Patch(fc="0.4", alpha=0.25, hatch="////", label="bracket, maps at a finer floor")] if hatched else []),
         Line2D([], [], ls="none", marker="o", ms=4, color="0.3", label="component, resolved"),
         Line2D([], [], ls="none", marker="o", ms=4, mfc="none", mec="0.3", label="component, unresolved"),
     ]
