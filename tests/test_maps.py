@@ -668,6 +668,8 @@ def test_steps_given_as_finer_are_searched_at_a_tenth_of_the_floor_and_grow_wher
     for wrong in (["--finer", "10", "5"], ["--finer", "0", "400"]):
         with pytest.raises(ValueError, match="--finer must satisfy 0 <= LOW < HIGH <= 360"):
             main([*command, "--debug", *wrong])
+    with pytest.raises(ValueError, match="finer ranges must satisfy 0 <= low < high"):
+        search([(0.3, 0.1)])  # a range given backwards is an error, not silently nothing
     with pytest.raises(ValueError, match="--finer refines a search on adaptive maps"):
         main(["topology", "--debug", "--opening", "90", "--finer", "0", "10"])
 

@@ -1369,6 +1369,9 @@ def map_transitions(
         raise ValueError(
             f"opening_range must satisfy 0 <= low < high (radians), step, tolerance > 0; got {opening_range}"
         )
+    for low, high in finer:
+        if not (math.isfinite(low) and math.isfinite(high) and 0.0 <= low < high):
+            raise ValueError(f"finer ranges must satisfy 0 <= low < high (radians), got {(low, high)}")
     openings = lo + step * np.arange(int(math.floor((hi - lo) / step + 1e-9)) + 1)
     openings = [float(o) for o in openings if o < 2 * math.pi]
     steps = list(zip(openings[:-1], openings[1:]))
