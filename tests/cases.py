@@ -1,6 +1,7 @@
 """Shared test cases: particles, small sweep files and helpers that several test modules use."""
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -8,6 +9,9 @@ import numpy as np
 from sesp import Polyline, SeSP, blocked_orientations
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# SESP_FULL_TESTS=1: every test at full strength (the variants marked `full`, the fault tests' full counts).
+FULL = bool(os.environ.get("SESP_FULL_TESTS"))
 
 STAPLE = Polyline([[0.5, 1.0], [-0.5, 1.0], [-0.5, -1.0], [0.5, -1.0]])
 ZED = Polyline([[-0.6, 0.8], [0.4, 0.8], [-0.4, -0.8], [0.6, -0.8]])

@@ -1,5 +1,51 @@
+"""Shared fixtures, the full-strength switch and the report of tests whose duration contradicts their marker.
+
+``SESP_FULL_TESTS=1 pytest`` runs every test at full strength: the variants marked ``full`` (a second base
+grid or grid parity for a rule that a faster test already checks) and the fault tests at their full counts.
+"""
+
 import numba
 import pytest
+
+from cases import FULL
+
+SLOW_OVER = 5.0  # s on an idle 2-core machine: a test that takes longer is marked slow
+FAST_UNDER = 1.0  # s: a test marked slow that takes less is not
+
+
+def pytest_collection_modifyitems(config, items):
+    if FULL:
+        return
+    skip = pytest.mark.skip(reason="full-strength variant: SESP_FULL_TESTS=1 runs it")
+    for item in items:
+        if "full" in item.keywords:
+            item.add_marker(skip)
+
+
+_durations = {}
+
+
+def pytest_runtest_logreport(report):
+    if report.when in ("setup", "call") and not report.skipped:
+        _durations[report.nodeid] = _durations.get(report.nodeid, 0.0) + report.duration
+        if report.when == "call":
+            _durations[report.nodeid, "slow"] = "slow" in report.keywords
+
+
+def pytest_terminal_summary(terminalreporter):
+    """List the tests whose marker their duration contradicts (a hint to re-mark them, not a failure: the
+    machine's load moves durations)."""
+    wrong = []
+    for key, seconds in _durations.items():
+        if isinstance(key, tuple) or (key, "slow") not in _durations:
+            continue
+        slow = _durations[key, "slow"]
+        if (slow and seconds < FAST_UNDER) or (not slow and seconds > SLOW_OVER):
+            wrong.append(f"{seconds:7.1f} s  {'slow' if slow else 'not slow'}  {key}")
+    if wrong:
+        terminalreporter.section("markers that durations contradict")
+        for line in sorted(wrong, reverse=True):
+            terminalreporter.write_line(line)
 
 
 @pytest.fixture

@@ -19,7 +19,6 @@ CASES = [
 ]
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("nx", [24, 25])
 @pytest.mark.parametrize("case", range(len(CASES)))
 def test_raster_equals_direct_on_every_state(case, nx):

@@ -129,6 +129,7 @@ def test_clearance_pruned_by_boxes_of_segment_runs_is_the_capped_distance():
     assert measured >= 15  # not only overlaps and far positions
 
 
+@pytest.mark.slow
 def test_asp_map_finds_the_exact_two_components_and_none_past_pi():
     found = excluded_map(ASP90, base=64)
     assert found.count == 2
@@ -141,6 +142,7 @@ def test_asp_map_finds_the_exact_two_components_and_none_past_pi():
     assert excluded_map(SeSP(n=2, opening=math.radians(181)), base=64).count == 0
 
 
+@pytest.mark.slow
 def test_asp_map_counts_two_at_30_degrees_with_the_lens_right_of_the_centre():
     """Exact: the lens (in both endpoint disks) on x > 0 and the body (in neither) around it, for 0 < Ψ < π."""
     psi = math.radians(30)
@@ -183,7 +185,8 @@ def test_the_centre_is_a_certified_pinch_for_0_to_pi_and_not_beyond():
     assert centre_pinch(as_pair(needle), 1e-4, 0.1) == 0.0
 
 
-@pytest.mark.parametrize("base", [64, 65])
+@pytest.mark.slow
+@pytest.mark.parametrize("base", [64, pytest.param(65, marks=pytest.mark.full)])
 def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
     found = excluded_map(SeSP(n=2, opening=math.radians(150)), base=base)
     assert found.count == 2
@@ -218,6 +221,7 @@ def test_parts_thinner_than_the_polylines_departure_from_the_curve_are_the_polyl
     assert (width_256 > 0).all() and (width_1024 == 0).all()
 
 
+@pytest.mark.slow
 def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marked_unresolved():
     """An ASP's polyline departs from the circle by the sagitta 1 − cos(Δ/2), Δ the angle its longest chord
     spans; a pair departs by both. With 12 segments every piece of the set at 170° is thinner than the 0.019 b
@@ -241,7 +245,7 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("base", [97, 128])
+@pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
 def test_the_asp_crescents_at_0_3_degrees_are_followed_and_part_lens_and_body(base, tmp_path):
     """At Ψ = 0.3125° the ASP's lens and body (exact: two components) are parted by crescents at most
     2·sin(Ψ/2) = 0.0055 b wide, an eighth of a cell of 97 (97 cells saw one body before). The channels
@@ -403,9 +407,16 @@ def test_a_body_that_reaches_a_part_at_a_smaller_body_is_judged_against_that_bod
     assert found.necks[0, 3] == found.necks[1, 3]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "base, degrees, floor",
-    [(97, 172.5, 1e-3), (128, 172.5, 1e-3), (97, 173.75, 3e-4), (128, 173.75, 3e-4), (97, 173.125, 3e-4)],
+    [
+        pytest.param(97, 172.5, 1e-3, marks=pytest.mark.full),
+        (128, 172.5, 1e-3),
+        pytest.param(97, 173.75, 3e-4, marks=pytest.mark.full),
+        (128, 173.75, 3e-4),
+        (97, 173.125, 3e-4),
+    ],
 )
 def test_the_n4_arrowhead_is_one_body_on_even_and_odd_base_grids(base, degrees, floor):
     """n = 4, Ψ = 172.5° to 173.75°: two wings meet at a tip on the axis. A brute-force exact-in-φ raster
@@ -431,7 +442,7 @@ def test_the_n4_arrowhead_is_one_body_on_even_and_odd_base_grids(base, degrees, 
     assert arrowhead[0].bbox == pytest.approx(raster_box, abs=0.01)  # both wings and the tip
 
 
-@pytest.mark.parametrize("base", [97, 128])
+@pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
 def test_an_allowed_wedge_a_node_fell_in_stays_open_on_finer_windows(base):
     """n = 8, Ψ = 5°: the lens (right of the centre) and the body meet only at the particle's centre; between
     them an allowed wedge runs up from the centre along x ≈ 0, 1.2e-3 b wide at y = 0.1 b (brute force below:
@@ -457,6 +468,7 @@ def test_the_zoom_must_be_odd_and_at_most_15(zoom):
         excluded_map(SeSP(n=2, opening=1.0), zoom=zoom, floor=1e-2)
 
 
+@pytest.mark.slow
 def test_a_strip_of_uncertain_cells_that_starts_beside_a_body_is_refined_along_its_length():
     """n = 8, Ψ = 155°: the island on the axis right of the centre, 0.01 b thick (brute force below), lies
     between the two node rows of an even base grid, whose nodes beside it are uncertain. That strip of
@@ -552,6 +564,7 @@ def test_a_thin_part_of_a_thick_body_running_away_from_it_is_refined_beyond_its_
     assert kept.sum() > 200
 
 
+@pytest.mark.slow
 def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch, capsys):
     """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
     4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two
@@ -846,6 +859,7 @@ def test_component_map_draws_each_component_in_its_colour():
         assert (np.abs(image - color).sum(axis=-1) < 30).sum() > 200
 
 
+@pytest.mark.slow
 def test_component_map_legend_says_what_a_component_may_be_an_artefact_of():
     import matplotlib
 
@@ -864,6 +878,7 @@ def test_component_map_legend_says_what_a_component_may_be_an_artefact_of():
     plt.close("all")
 
 
+@pytest.mark.slow
 def test_a_crescent_whose_ridge_dips_is_one_component():
     """n = 4 at Ψ = 176°: two mirror-image crescents beside the axis, whose ridges dip and rise along them
     (saddles of the distance to the allowed set nearly as high as its peaks). Each is one component, not a
@@ -911,7 +926,8 @@ def test_specks_of_the_floor_join_one_another_and_the_nearest_body_never_two():
     assert len(joined_specks([left, right], floor, centre=0.0)) == 1
 
 
-@pytest.mark.parametrize("base", [97, 128])
+@pytest.mark.slow
+@pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
 def test_the_n4_body_s_horn_tips_are_no_specks_of_their_own(base):
     """At Ψ = 0.3125° the n = 4 body's horns end near (1.98, ±0.58) b in strips about 4e-4 b wide, which the
     floor's cells (1.6e-4 and 2.1e-4 b) sample in pieces; a brute-force raster on cells of 5e-5 b finds the
@@ -923,6 +939,7 @@ def test_the_n4_body_s_horn_tips_are_no_specks_of_their_own(base):
     assert ndimage.label(width == 0, np.ones((3, 3)))[1] == 1
 
 
+@pytest.mark.slow
 def test_a_thick_body_whose_tip_reaches_the_floor_is_not_unresolved_for_it():
     """n = 4 at Ψ = 120° on 64 cells: the body (1.53 b², inscribed radius 0.5 b) tapers to horn tips that the
     map follows to the floor, so it touches the floor; its count does not hang on the floor, so it is not

@@ -42,7 +42,6 @@ from .topology import (
     excluded_components,
     find_transitions,
     state_components,
-    topology_profile,
 )
 
 __version__ = version.__version__
@@ -84,7 +83,6 @@ __all__ = [
     "excluded_components",
     "state_components",
     "find_transitions",
-    "topology_profile",
     "axis_profile",
     "axis_transitions",
     # adaptive maps, exact in φ

@@ -126,6 +126,7 @@ def analyze(
 
     Examples
     --------
+    >>> from sesp import Grid, SeSP, analyze
     >>> ds = analyze(SeSP(n=2, opening=1.0), Grid(32, nphi=16), segments=32, keep=["classes", "topology"])
     >>> int(ds.excluded_components)
     2

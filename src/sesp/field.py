@@ -251,6 +251,8 @@ def scan(
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from sesp import Grid, SeSP, scan
     >>> ds = scan(SeSP(n=2, opening=np.pi / 2), Grid(64, nphi=16), segments=64)
     >>> ds.allowed.dims
     ('phi', 'y', 'x')
@@ -301,6 +303,8 @@ def monte_carlo(
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from sesp import SeSP, monte_carlo
     >>> mc = monte_carlo(SeSP(n=2, opening=np.pi / 2), samples=1000, seed=1)
     >>> float(mc.excluded_area) > 0
     True

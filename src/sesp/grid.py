@@ -6,7 +6,6 @@ Nodes are cell centres of a square box [-L, L]² with ``nx × ny`` cells, and
 
 from __future__ import annotations
 
-import math
 import os
 from dataclasses import dataclass, replace
 
@@ -50,8 +49,9 @@ class Grid:
 
     Examples
     --------
+    >>> from sesp import Grid
     >>> Grid(64, nphi=32).resolve(2.0).x[:2]
-    array([-2.0..., -2.0...])
+    array([-2.03225806, -1.96774194])
     """
 
     nx: int = 256
@@ -120,11 +120,6 @@ class Grid:
         return 2.0 * self.half_width / self.ny
 
     @property
-    def dphi(self) -> float:
-        """Orientation step, radians."""
-        return 2.0 * math.pi / self.nphi
-
-    @property
     def x(self) -> np.ndarray:
         """(nx,) ndarray: cell-centre x coordinates; exactly symmetric about 0."""
         return (np.arange(self.nx) - (self.nx - 1) / 2) * self.dx
@@ -142,11 +137,6 @@ class Grid:
     def rotations(self) -> tuple[np.ndarray, np.ndarray]:
         """cos φ_k and sin φ_k, exact (0, ±1) at multiples of π/2."""
         return exact_cos_sin(np.arange(self.nphi), self.nphi)
-
-    def to_attrs(self) -> dict:
-        """Grid description for dataset attributes."""
-        self._require_box()
-        return {"nx": self.nx, "ny": self.ny, "nphi": self.nphi, "half_width": self.half_width}
 
 
 def exact_cos_sin(k: np.ndarray, nphi: int) -> tuple[np.ndarray, np.ndarray]:

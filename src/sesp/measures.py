@@ -58,7 +58,8 @@ def excluded_area(ds: xr.Dataset, *, by: str | None = None):
 
     Examples
     --------
-    >>> from sesp import SeSP, Grid, scan
+    >>> import numpy as np
+    >>> from sesp import Grid, SeSP, excluded_area, scan
     >>> ds = scan(SeSP(n=2), Grid(128, nphi=4), segments=128)
     >>> round(excluded_area(ds) / (4 * np.pi), 2)
     1.0

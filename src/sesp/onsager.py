@@ -126,6 +126,9 @@ def orientational_spectrum(
 
     Examples
     --------
+    >>> import numpy as np
+    >>> import xarray as xr
+    >>> from sesp.onsager import orientational_spectrum
     >>> phi = 2 * np.pi * np.arange(256) / 256
     >>> needles = xr.DataArray(4 * np.abs(np.sin(phi)), coords={"phi": phi}, dims="phi")
     >>> round(float(orientational_spectrum(needles, 2).a.sel(k=2)) / (-16 / (3 * np.pi)), 3)

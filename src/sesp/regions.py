@@ -144,7 +144,7 @@ def classify(ds: xr.Dataset) -> xr.DataArray:
 
     Examples
     --------
-    >>> from sesp import SeSP, Grid, scan
+    >>> from sesp import Grid, SeSP, classify, scan
     >>> ds = scan(SeSP(n=2, opening=1.0), Grid(32, nphi=16), segments=32, entangled=True)
     >>> classify(ds).attrs["flag_meanings"]
     'free spooning entangled excluded'

@@ -40,6 +40,7 @@ class Polyline:
 
     Examples
     --------
+    >>> from sesp import Polyline
     >>> needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
     >>> needle.length
     2.0
@@ -191,6 +192,8 @@ class SeSP:
 
     Examples
     --------
+    >>> import numpy as np
+    >>> from sesp import SeSP
     >>> asp = SeSP(n=2, opening=np.pi / 2)
     >>> line = asp.polyline(64)
     >>> line.vertices.shape

@@ -86,7 +86,6 @@ __all__ = [
     "state_components",
     "find_transitions",
     "opening_family",
-    "topology_profile",
     "QUANTITIES",
     "AxisProfile",
     "axis_profile",
@@ -338,23 +337,6 @@ class TopologyResult:
 
 def _profile(make, openings, quantity, grid, segments, progress) -> list:
     return [_count(make, o, quantity, grid, segments) for o in progress_iter(openings, progress, "Ψ")]
-
-
-def topology_profile(
-    family,
-    openings,
-    *,
-    quantity="excluded",
-    grid: Grid | None = None,
-    segments: int = DEFAULT_SEGMENTS,
-    progress: bool = False,
-):
-    """Component counts and areas at each opening in ``openings`` (radians)."""
-    if quantity not in QUANTITIES:
-        raise ValueError(f"quantity must be one of {QUANTITIES}, got {quantity!r}")
-    grid = grid if grid is not None else Grid(256, nphi=256)
-    found = _profile(opening_family(family), openings, quantity, grid, segments, progress)
-    return np.array([c.count for c in found]), [c.areas for c in found]
 
 
 def _memoised(measure, summary, cache, bar=None):
