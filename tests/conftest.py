@@ -14,6 +14,8 @@ FAST_UNDER = 1.0  # s: a test marked slow that takes less is not
 
 
 def pytest_collection_modifyitems(config, items):
+    # slow tests first: two processes then share out the long ones before the short ones fill the gaps
+    items.sort(key=lambda item: "slow" not in item.keywords)
     if FULL:
         return
     skip = pytest.mark.skip(reason="full-strength variant: SESP_FULL_TESTS=1 runs it")

@@ -172,6 +172,7 @@ def test_a_lens_one_node_thick_at_the_floor_is_parted_from_the_body_at_the_centr
     assert found.limit(lens) == "floor" and found.limit(body) == ""
 
 
+@pytest.mark.slow
 def test_the_centre_is_a_certified_pinch_for_0_to_pi_and_not_beyond():
     """The column x = 0 is certified allowed around the excluded centre for the ASP and n = 4, 8 (from about 10°,
     5° for n = 4, up to π; checked at 30°, 150°, 179°), over at least the 3 base cells asked for; past π the
@@ -195,6 +196,7 @@ def test_asp_thin_lens_at_150_degrees_on_even_and_odd_base_grids(base):
     assert not any(c.touches_floor for c in found.components)
 
 
+@pytest.mark.slow
 def test_a_finer_window_that_splits_two_bodies_again_does_not_join_them():
     """At Ψ = 3.125° the ASP's lens and body touch at two pinches behind allowed crescents about 0.05 b thick.
     On 65 cells the coarse window keeps them apart at an undecided neck; the finer window around it splits
@@ -442,6 +444,7 @@ def test_the_n4_arrowhead_is_one_body_on_even_and_odd_base_grids(base, degrees, 
     assert arrowhead[0].bbox == pytest.approx(raster_box, abs=0.01)  # both wings and the tip
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
 def test_an_allowed_wedge_a_node_fell_in_stays_open_on_finer_windows(base):
     """n = 8, Ψ = 5°: the lens (right of the centre) and the body meet only at the particle's centre; between
@@ -483,6 +486,7 @@ def test_a_strip_of_uncertain_cells_that_starts_beside_a_body_is_refined_along_i
     assert island.bbox[0] < 0.1 and island.bbox[1] > 0.7 and max(-island.bbox[2], island.bbox[3]) < 0.01
 
 
+@pytest.mark.slow
 def test_bodies_kept_apart_at_a_neck_undecided_at_the_floor_are_marked():
     """At a floor of 1e-3 b the n = 4 arrowhead at Ψ = 173.75° is seen in pieces (two wings, the tip apart or
     with one of them), kept apart at necks the floor stops the look at (refined, they join: the test above):
@@ -786,6 +790,7 @@ def test_a_partition_that_is_not_its_own_mirror_image_is_joined_into_one_that_is
     assert len(maps.mirror_joined([maps._merged(lower, strip), upper], square)) == 2
 
 
+@pytest.mark.slow
 def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, capsys):
     found = excluded_map(ASP90, base=48)
     path = save(found.dataset(), tmp_path / "asp90.nc")
@@ -804,6 +809,7 @@ def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, caps
     assert "2 components" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_cli_one_opening_as_json(capsys):
     assert main(["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]) == 0
     out = json.loads(capsys.readouterr().out)
@@ -815,6 +821,7 @@ def test_cli_one_opening_as_json(capsys):
     assert out["channel_disks"] == 0  # no sliver at 90°: no channel followed
 
 
+@pytest.mark.slow
 def test_cli_one_opening_keeps_its_map_in_the_maps_folder(tmp_path, capsys):
     command = ["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]
     assert main([*command, "--maps-folder", str(tmp_path)]) == 0
@@ -840,6 +847,7 @@ def test_map_arguments_are_checked():
             main(["topology", "--debug", *wrong])
 
 
+@pytest.mark.slow
 def test_component_map_draws_each_component_in_its_colour():
     import matplotlib
 
