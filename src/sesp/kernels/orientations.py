@@ -11,7 +11,7 @@ TWO_PI = 2.0 * math.pi
 
 
 @njit(**JIT)
-def _sinusoid_roots(c, a, b, roots, n):
+def sinusoid_roots(c, a, b, roots, n):
     """Append to ``roots`` the φ in [0, 2π) where c + a cos φ + b sin φ = 0; return the new count."""
     r = math.hypot(a, b)
     if r == 0.0 or abs(c) > r:
@@ -98,7 +98,7 @@ def _pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, starts, ends, n, roots)
     k1, k2, k3, k4 = _crossing_sinusoids(px, py, qx, qy, ux, uy, vx, vy, tx, ty)
     m = 0
     for k in (k1, k2, k3, k4):
-        m = _sinusoid_roots(k[0], k[1], k[2], roots, m)
+        m = sinusoid_roots(k[0], k[1], k[2], roots, m)
     cuts = _cuts(roots, m)
     for i in range(m + 1):
         lo = cuts[i]
@@ -147,24 +147,24 @@ def _thick_pair_angles(px, py, qx, qy, ux, uy, vx, vy, tx, ty, contact, starts, 
     m = 0
     for k in (k1, k2):
         for shift in (0.0, contact * dlen, -contact * dlen):
-            m = _sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
+            m = sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
     for k in (k3, k4):
         for shift in (0.0, contact * elen, -contact * elen):
-            m = _sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
+            m = sinusoid_roots(k[0] + shift, k[1], k[2], roots, m)
     along = (tx - px) * dx + (ty - py) * dy
     for wx, wy in ((ux, uy), (vx, vy)):  # moving end points' projections on p–q reach its ends
         a = wx * dx + wy * dy
         b = wx * dy - wy * dx
-        m = _sinusoid_roots(along, a, b, roots, m)
-        m = _sinusoid_roots(along - dlen * dlen, a, b, roots, m)
+        m = sinusoid_roots(along, a, b, roots, m)
+        m = sinusoid_roots(along - dlen * dlen, a, b, roots, m)
     for gx, gy in ((gpx, gpy), (gqx, gqy)):  # fixed end points' projections on the moving segment
         c0 = -(ux * ex + uy * ey)
         a = gx * ex + gy * ey
         b = gy * ex - gx * ey
-        m = _sinusoid_roots(c0, a, b, roots, m)
-        m = _sinusoid_roots(c0 - elen * elen, a, b, roots, m)
+        m = sinusoid_roots(c0, a, b, roots, m)
+        m = sinusoid_roots(c0 - elen * elen, a, b, roots, m)
         for wx, wy in ((ux, uy), (vx, vy)):  # end point to end point at distance contact
-            m = _sinusoid_roots(
+            m = sinusoid_roots(
                 gx * gx + gy * gy + wx * wx + wy * wy - contact * contact,
                 -2.0 * (gx * wx + gy * wy),
                 -2.0 * (gy * wx - gx * wy),
@@ -365,7 +365,7 @@ def chunk_count(v):
 
 
 @njit(**JIT)
-def _boxes_distance2(a, b):
+def boxes_distance2(a, b):
     dx = max(0.0, a[0] - b[1], b[0] - a[1])
     dy = max(0.0, a[2] - b[3], b[2] - a[3])
     return dx * dx + dy * dy
@@ -389,7 +389,7 @@ def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
     best2 = cap * cap
     for a in range(boxes1.shape[0]):
         for b in range(boxes2.shape[0]):
-            if _boxes_distance2(boxes1[a], boxes2[b]) > best2:
+            if boxes_distance2(boxes1[a], boxes2[b]) > best2:
                 continue
             for i in range(a * CHUNK, min((a + 1) * CHUNK, v1.shape[0] - 1)):
                 px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
@@ -435,6 +435,16 @@ def windows_at(v1, v2, spans2, boxes1, xs, ys, slack, gap, contact, caps, width,
             clear[p] = max(clear[p], clearance(v1, boxes1, v2, xs[p], ys[p], phi, cap, moved, boxes2))
             if clear[p] >= cap:
                 break
+
+
+@njit(**JIT, parallel=True)
+def clearance_at(v1, boxes1, v2, xs, ys, phis, caps, out):
+    """``out[p]``: :func:`clearance` of curve 2 at (xs[p], ys[p]) turned by ``phis[p]``, capped at ``caps[p]``; 0
+    where they meet. Each position is written by one thread."""
+    for p in prange(xs.shape[0]):
+        moved = np.empty_like(v2)
+        boxes2 = np.empty((chunk_count(v2), 4))
+        out[p] = clearance(v1, boxes1, v2, xs[p], ys[p], phis[p], caps[p], moved, boxes2)
 
 
 @njit(**JIT, parallel=True)

@@ -1,0 +1,448 @@
+"""Components of the excluded set at a stated resolution, certified on both sides, exact in φ.
+
+Definition. The depth p(t) of a translation t is its distance (b) to the
+nearest allowed translation (one at which some orientation φ leaves the two
+particles apart). At resolution ε the excluded set is counted as the
+components of E_ε = {t : p(t) ≥ ε}: the excluded set eroded by ε. So a
+single-point pinch (the ASP's centre) always separates, a neck narrower than
+2ε separates, and a body thinner than 2ε is not counted. ε is the only
+length that changes the answer.
+
+Certificates. Space is cut into a quadtree of square cells (base × base on
+the particles' reach box, refined by halving). Each cell is
+
+* **allowed-centred** when some φ leaves the particles apart at its centre
+  (exact windows in φ; :mod:`sesp.kernels.orientations`), with a clearance
+  that bounds the depth of every point of the cell from above;
+* **in** when the depth certificate (:mod:`sesp.kernels.depth`: curves that
+  cross with odd parity and stay crossed under every shorter translation, at
+  every φ, in closed form) proves its centre at least ε + h deep, h its
+  half-diagonal: then the whole cell lies in E_ε;
+* **out** when an upper bound on the depth anywhere in the cell (from allowed
+  centres nearby) is below ε: no point of the cell lies in E_ε;
+* **undecided** otherwise.
+
+Every component of E_ε lies in one component of in ∪ undecided cells (a
+candidate), and every certified part (in-cells joined where their certified
+disks meet) lies in one component of E_ε. So a candidate holding parts holds
+at least one component of E_ε: ``low`` counts those candidates; ``high`` adds
+up their parts (and 1 for a candidate without any). Cells are split only where
+an undecided cell could change the bracket: between two parts of one
+candidate, in a candidate without a part, or on a candidate's rim where it may
+be deeper than ε. Refinement stops at cells of side ε/4.
+
+Resolution of the search. A component is seeded by a part whose certified
+disk reaches ``rim`` (b) or a quarter of the component's certified depth,
+whichever is smaller; thinner parts beside a seeded one are searched only to
+that length, so a component shallower than ε + that rim lying within it of
+another is not separated from it (stated in :attr:`Certified.rim`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .kernels import cells as cell_kernels
+from .kernels import depth as depth_kernels
+from .kernels.orientations import chunk_boxes, chunk_count, clearance_at, radial_spans, windows_at
+from .orientations import ANGLE_GAP, SCREEN_SLACK
+from .pair import as_pair
+from .progress import progress_bar
+from .shape import DEFAULT_SEGMENTS
+
+__all__ = ["RESOLUTION", "Certified", "CertifiedComponent", "certified_components"]
+
+RESOLUTION = 1e-5  # b: the default ε, the erosion length of the count
+RIM = 1e-3  # b: the largest length to which a component's rim is resolved beside another
+BASE = 64  # cells along each side of the reach box before refinement
+MAX_STEPS = 64  # intervals of φ a depth certificate may use at first
+MOST_STEPS = 4096  # ... and at most, after retries at four times as many
+CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
+OUT, IN, UNDECIDED = 0, 1, 2
+
+
+@dataclass
+class _Leaves:
+    level: np.ndarray
+    i: np.ndarray
+    j: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    h: np.ndarray  # half-diagonal, b
+    allowed: np.ndarray  # the centre is allowed
+    clearance: np.ndarray  # b: a translation this short keeps the centre's orientation allowed
+    middle: np.ndarray  # radians: an allowed orientation at the centre (where it is allowed)
+    deep: np.ndarray  # certified: every point of the cell is at least ε deep
+    steps: np.ndarray  # intervals of φ the depth certificate may use
+    ran_out: np.ndarray  # the certificate used them all without an answer
+    radius: np.ndarray  # b: the disk of this radius about the centre is at least ε deep (0 if not deep)
+    bound: np.ndarray  # b: an upper bound on the depth anywhere in the cell, from the parent's centre
+
+    def take(self, keep):
+        return _Leaves(**{k: v[keep] for k, v in self.__dict__.items()})
+
+    @staticmethod
+    def joined(parts):
+        return _Leaves(**{k: np.concatenate([getattr(p, k) for p in parts]) for k in parts[0].__dict__})
+
+
+@dataclass(frozen=True)
+class CertifiedComponent:
+    """One component of in ∪ undecided cells.
+
+    ``parts``: certified parts (seeds) it holds: 1 is one component of E_ε, 0
+    one that may be empty, more an undecided split. ``depth``: a certified lower
+    bound on its largest depth (inscribed radius, b). ``area``: b² of its
+    in-cells (a lower bound on the area of E_ε there) and ``area_bound`` of
+    all its cells (an upper bound). ``box``: (xmin, xmax, ymin, ymax), b."""
+
+    parts: int
+    depth: float
+    area: float
+    area_bound: float
+    box: tuple
+
+    @property
+    def decided(self) -> bool:
+        return self.parts == 1
+
+    def why(self) -> str:
+        if self.parts == 1:
+            return "one component"
+        if self.parts == 0:
+            return (
+                "no cell of it is certified deeper than the resolution: a body at most about the resolution deep, "
+                "or none"
+            )
+        return f"{self.parts} certified parts whose joins were not decided down to the floor"
+
+
+@dataclass
+class Certified:
+    """The count of excluded components at resolution ``resolution`` (b), as a bracket ``low`` ≤ count ≤ ``high``.
+
+    ``rim`` (b): the length to which rims beside other components were
+    resolved. ``floor`` (b): the smallest cell side. ``components``: one
+    :class:`CertifiedComponent` per candidate, deepest first."""
+
+    low: int
+    high: int
+    resolution: float
+    rim: float
+    floor: float
+    components: list = field(default_factory=list)
+    evaluations: int = 0
+    seconds: float = 0.0
+
+    @property
+    def count(self):
+        """The count where the bracket is one number, else None."""
+        return self.low if self.low == self.high else None
+
+    def __str__(self):
+        head = f"{self.low}" if self.count is not None else f"{self.low}-{self.high} (undecided)"
+        lines = [f"excluded components at resolution {self.resolution:.1e} b: {head}"]
+        for k, c in enumerate(self.components, 1):
+            x0, x1, y0, y1 = c.box
+            lines.append(
+                f"  {k}: depth >= {c.depth:.3e} b, area {c.area:.4e} b^2 (<= {c.area_bound:.4e}), "
+                f"x {x0:+.4f}..{x1:+.4f}, y {y0:+.4f}..{y1:+.4f} b: {c.why()}"
+            )
+        return "\n".join(lines)
+
+
+def certified_components(
+    particle,
+    other=None,
+    *,
+    resolution: float = RESOLUTION,
+    rim: float = RIM,
+    base: int = BASE,
+    segments: int = DEFAULT_SEGMENTS,
+    progress: bool = False,
+) -> Certified:
+    """The excluded components of a pair at resolution ``resolution`` (b), certified on both sides, exact in φ.
+
+    ``particle``/``other`` as for :func:`sesp.scan` (a Pair is taken as is);
+    ``segments`` per polyline. See the module text for the definition.
+
+    Examples
+    --------
+    >>> import math
+    >>> from sesp import SeSP
+    >>> found = certified_components(SeSP(n=2, opening=math.radians(200)), resolution=1e-3)
+    >>> found.count
+    0
+    """
+    if not (resolution > 0 and math.isfinite(resolution)):
+        raise ValueError(f"resolution must be a length > 0 (b), got {resolution!r}")
+    if not (rim >= resolution and math.isfinite(rim)):
+        raise ValueError(f"rim must be a length >= resolution ({resolution:g} b), got {rim!r}")
+    if not (isinstance(base, int | np.integer) and 4 <= base <= 4096):
+        raise ValueError(f"base must be a whole number of cells in [4, 4096], got {base!r}")
+    pair = as_pair(particle, other, segments=segments)
+    return _Engine(pair, resolution, rim, int(base)).run(progress)
+
+
+class _Engine:
+    def __init__(self, pair, resolution, rim, base):
+        self.pair, self.eps, self.rim, self.base = pair, resolution, rim, base
+        self.floor = resolution / 4
+        self.half = pair.reach
+        v1, v2 = pair.vertices1, pair.vertices2
+        self.spans2 = radial_spans(v2)
+        self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
+        self.curves = depth_kernels.prepared(v1, v2)
+        self.evaluations = 0
+        self.depth_cache = {}
+        self.best = {}  # component root -> the leaf where its depth was proved largest
+
+    def evaluate(self, level, i, j, bound, steps=None, hint=None):
+        """Leaves (level, i, j): whether each centre is allowed (and how far that lasts), or certified deep.
+
+        ``hint``: an orientation to try first at each centre (NaN for none): where it leaves the curves apart,
+        the centre is allowed and the exact windows are not needed."""
+        side = 2.0 * self.half / (self.base * np.exp2(level))
+        x = -self.half + (i + 0.5) * side
+        y = -self.half + (j + 0.5) * side
+        h = side / math.sqrt(2.0)
+        n = len(x)
+        steps = np.full(n, MAX_STEPS) if steps is None else steps
+        hint = np.full(n, np.nan) if hint is None else hint
+        clearance = np.zeros(n)
+        middle = np.where(np.isnan(hint), 0.0, hint)
+        tried = np.nonzero(~np.isnan(hint))[0]
+        if len(tried):
+            clearance[tried] = self._clearance(x[tried], y[tried], hint[tried], h[tried])
+        allowed = clearance > 0
+        deep, ran_out, radius = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n)
+        missed = np.nonzero(~allowed & ~np.isnan(hint))[0]  # the hint failed: likely excluded, certify that first
+        if len(missed):
+            deep[missed], radius[missed], ran_out[missed] = self._deep(x[missed], y[missed], h[missed], steps[missed])
+        rest = np.nonzero(~allowed & ~deep)[0]
+        if len(rest):
+            ok, mid = self._windows(x[rest], y[rest])
+            sel = rest[ok]
+            allowed[sel], middle[sel] = True, mid[ok]
+            clearance[sel] = np.maximum(self._clearance(x[sel], y[sel], mid[ok], h[sel]), 0.0)
+            fresh = rest[~ok & np.isnan(hint[rest])]  # excluded, not yet certified
+            if len(fresh):
+                deep[fresh], radius[fresh], ran_out[fresh] = self._deep(x[fresh], y[fresh], h[fresh], steps[fresh])
+        self.evaluations += n
+        clearance = np.where(allowed, clearance, 0.0)
+        return _Leaves(level, i, j, x, y, h, allowed, clearance, middle, deep, steps, ran_out, radius, bound)
+
+    def _clearance(self, x, y, phi, h):
+        """b: how far each centre may move with curve 2 turned by ``phi`` before the pair meets (≤ 0: it meets)."""
+        got = np.empty(len(x))
+        p = self.pair
+        clearance_at(p.vertices1, self.boxes1, p.vertices2, x, y, phi, 2 * h + p.contact, got)
+        return got - p.contact
+
+    def _windows(self, x, y):
+        """Whether each position is allowed, exactly in φ, and the middle of its widest window (radians)."""
+        p, n = self.pair, len(x)
+        width, mid, clear = np.empty(n), np.empty(n), np.empty(n)
+        windows_at(
+            p.vertices1, p.vertices2, self.spans2, self.boxes1, x, y, SCREEN_SLACK, ANGLE_GAP, p.contact,
+            np.zeros(n), width, mid, clear,
+        )  # fmt: skip
+        return width > 0, mid
+
+    def _deep(self, x, y, h, steps):
+        """Cells certified at least ε deep throughout, the radius about their centres so certified (wider than
+        the cell where it is under ``rim``), and where the certificate ran out of intervals."""
+        got = self._cover(x, y, self.eps + h, steps)
+        deep, ran_out = got == 1, got == -1
+        radius = np.where(deep, h, 0.0)
+        thin = np.nonzero(deep & (h < self.rim))[0]
+        if len(thin):
+            wider = np.maximum(3 * h[thin], self.rim)
+            ok = self._cover(x[thin], y[thin], self.eps + wider, steps[thin]) == 1
+            radius[thin[ok]] = wider[ok]
+        return deep, radius, ran_out
+
+    def _cover(self, x, y, r, steps):
+        r = np.maximum(r - self.pair.contact, 1e-300)
+        return depth_kernels.certified_deep(self.curves, x, y, r, steps)
+
+    def classify(self, L):
+        """IN, OUT or UNDECIDED per leaf, with an upper bound on the depth anywhere in it (b)."""
+        ea, eb = cell_kernels.leaf_edges(L.level, L.i, L.j, self.base)
+        hi = np.where(L.allowed, np.maximum(0.0, L.h - L.clearance), L.bound)
+        via = L.allowed[eb]
+        a, b = ea[via], eb[via]
+        reach = np.hypot(L.x[a] - L.x[b], L.y[a] - L.y[b]) + L.h[a] - L.clearance[b]
+        np.minimum.at(hi, a, np.maximum(0.0, reach))
+        far = ~L.allowed & ~L.deep & (hi >= self.eps)
+        if far.any() and L.allowed.any():  # the nearest allowed centre anywhere bounds the depth too
+            tree = cKDTree(np.column_stack([L.x[L.allowed], L.y[L.allowed]]))
+            gap, _ = tree.query(np.column_stack([L.x[far], L.y[far]]))
+            hi[far] = np.minimum(hi[far], gap + L.h[far])
+        status = np.full(len(L.x), UNDECIDED)
+        status[L.deep] = IN
+        status[(status == UNDECIDED) & (hi < self.eps)] = OUT
+        return status, hi, ea, eb
+
+    def run(self, progress=False):
+        start = time.perf_counter()
+        b = self.base
+        i, j = np.meshgrid(np.arange(b, dtype=np.int64), np.arange(b, dtype=np.int64), indexing="ij")
+        L = self.evaluate(np.zeros(b * b, np.int64), i.ravel(), j.ravel(), np.full(b * b, np.inf))
+        levels = max(1, math.ceil(math.log2(2 * self.half / b / self.floor)))
+        with progress_bar(levels, progress, "certified components", unit="level") as bar:
+            deepest = 0
+            while True:
+                status, hi, ea, eb = self.classify(L)
+                split, retry, seed, U = self._to_refine(L, status, hi, ea, eb)
+                if not split.any() and not retry.any():
+                    break
+                L = self._split(self._retry(L, retry), split)
+                if (now := int(L.level.max())) > deepest:
+                    bar.update(now - deepest)
+                    deepest = now
+        found = self._result(L, status, U, seed)
+        found.seconds = time.perf_counter() - start
+        return found
+
+    def _to_refine(self, L, status, hi, ea, eb):
+        """The leaves to split and those to certify again with more intervals, the seed (certified part) of each
+        in-leaf and the candidate component (root) of each leaf not out."""
+        und, inn = status == UNDECIDED, status == IN
+        U = cell_kernels.components(status != OUT, ea, eb)
+        parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, ea, eb)
+        anywhere = np.maximum(parts, 0)
+        significant = np.zeros(len(L.x), bool)
+        significant[parts[inn & (L.radius >= self.rim)]] = True
+        has_significant, has_part = np.zeros(len(L.x), bool), np.zeros(len(L.x), bool)
+        has_significant[U[inn & significant[anywhere]]] = True
+        has_part[U[inn]] = True
+        # seeds: the significant parts, or every part of a component without a significant one
+        seed = np.where(inn & (significant[anywhere] | ~has_significant[np.maximum(U, 0)]), parts, -1)
+        between = und & cell_kernels.corridors(seed, und | inn, ea, eb, 2)
+        empty = und & ~has_part[np.maximum(U, 0)]
+        depth = self._depths(L, status, U)
+        rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
+        self.rim_used = float(rim[inn].min()) if inn.any() else self.rim
+        on_rim = und & (hi >= self.eps + rim)
+        split = (between | empty | on_rim) & (L.h * math.sqrt(2.0) > self.floor)
+        split = cell_kernels.graded(split, und, L.level, ea, eb)
+        retry = und & L.ran_out & (L.steps < MOST_STEPS)
+        return split & ~retry, retry, seed, U
+
+    def _depths(self, L, status, U):
+        """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell."""
+        depth = np.zeros(len(L.x))
+        inn = np.nonzero(status == IN)[0]
+        if not len(inn):
+            return depth
+        rest = np.nonzero(status != IN)[0]
+        if len(rest):  # the in-cells farthest from every other leaf lie near the component's deepest point
+            far, _ = cKDTree(np.column_stack([L.x[rest], L.y[rest]])).query(np.column_stack([L.x[inn], L.y[inn]]))
+        else:
+            far = L.h[inn]
+        order = inn[np.lexsort((L.radius[inn], far))[::-1]]
+        tried, self.best = {}, {}
+        for k in order:
+            if tried.setdefault(U[k], 0) >= CANDIDATES:
+                continue
+            tried[U[k]] += 1
+            got = self._depth_at(L, k)
+            if got > depth[U[k]]:
+                depth[U[k]], self.best[U[k]] = got, k
+        return depth
+
+    def _depth_at(self, L, k):
+        """b: the largest depth the certificate proves at leaf k's centre, within a factor 1.0009."""
+        key = (L.level[k], L.i[k], L.j[k])
+        if key not in self.depth_cache:
+            self.depth_cache[key] = self._proved_depth(L.x[k], L.y[k], self.eps + L.radius[k])
+        return self.depth_cache[key]
+
+    def _proved_depth(self, x, y, lo):
+        """b: the largest depth (≥ ``lo``, known proved) the certificate proves at (x, y), within a factor 1.0009."""
+        hi = 2.0 * self.half
+        for _ in range(12):  # geometric bisection
+            mid = math.sqrt(lo * hi)
+            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([MOST_STEPS]))[0]
+            lo, hi = (mid, hi) if ok == 1 else (lo, mid)
+        return lo
+
+    def _deepest(self, L, k, depth):
+        """b: the depth proved at leaf k's centre, raised by a pattern search from it (16 directions, steps of the
+        cell's side halved ten times): the inscribed radius of the component, from below."""
+        x, y, step = L.x[k], L.y[k], L.h[k] * math.sqrt(2.0)
+        turns = np.linspace(0.0, 2.0 * math.pi, 16, endpoint=False)
+        for _ in range(10):
+            moved = True
+            while moved:
+                moved = False
+                for dx, dy in zip(step * np.cos(turns), step * np.sin(turns), strict=True):
+                    if self._cover(np.array([x + dx]), np.array([y + dy]), np.array([depth * 1.001]),
+                                   np.array([MOST_STEPS]))[0] == 1:  # fmt: skip
+                        x, y = x + dx, y + dy
+                        depth = self._proved_depth(x, y, depth)
+                        moved = True
+            step /= 2
+        return depth
+
+    def _hints(self, L, parent):
+        """An orientation to try first in each child of ``parent``: the parent's allowed one, or that of the
+        nearest leaf whose centre is allowed (windows move continuously with the position)."""
+        hint = np.where(parent.allowed, parent.middle, np.nan)
+        lost = np.nonzero(~parent.allowed)[0]
+        if len(lost) and L.allowed.any():
+            donors = np.nonzero(L.allowed)[0]
+            tree = cKDTree(np.column_stack([L.x[donors], L.y[donors]]))
+            _, nearest = tree.query(np.column_stack([parent.x[lost], parent.y[lost]]))
+            hint[lost] = L.middle[donors[nearest]]
+        return hint
+
+    def _retry(self, L, retry):
+        """Cells whose certificate ran out of intervals, certified again with four times as many."""
+        idx = np.nonzero(retry)[0]
+        if len(idx):
+            L.steps[idx] *= 4
+            L.deep[idx], L.radius[idx], L.ran_out[idx] = self._deep(L.x[idx], L.y[idx], L.h[idx], L.steps[idx])
+        return L
+
+    def _split(self, L, split):
+        parent, rest = L.take(split), L.take(~split)
+        m = len(parent.x)
+        level = np.repeat(parent.level + 1, 4)
+        i = np.repeat(parent.i * 2, 4) + np.tile(np.array([0, 1, 0, 1]), m)
+        j = np.repeat(parent.j * 2, 4) + np.tile(np.array([0, 0, 1, 1]), m)
+        # the parent's centre is a corner of each child: its clearance bounds the child's depth
+        child_h = np.repeat(parent.h / 2, 4)
+        was_allowed = np.repeat(parent.allowed, 4)
+        bound = np.where(was_allowed, np.maximum(0.0, 2 * child_h - np.repeat(parent.clearance, 4)), np.inf)
+        steps = np.repeat(parent.steps, 4)
+        hint = np.repeat(self._hints(L, parent), 4)
+        children = [rest]
+        for lv in np.unique(level):
+            sel = level == lv
+            children.append(self.evaluate(level[sel], i[sel], j[sel], bound[sel], steps[sel], hint[sel]))
+        return _Leaves.joined(children)
+
+    def _result(self, L, status, U, seed):
+        area = (L.h * math.sqrt(2.0)) ** 2
+        depth = self._depths(L, status, U)
+        for root, k in self.best.items():
+            depth[root] = self._deepest(L, k, depth[root])
+        found = []
+        for r in np.unique(U[U >= 0]):
+            m = U == r
+            parts = len(np.unique(seed[m & (seed >= 0)]))
+            inn = m & (status == IN)
+            box = (float(L.x[m].min()), float(L.x[m].max()), float(L.y[m].min()), float(L.y[m].max()))
+            found.append(CertifiedComponent(parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box))
+        found.sort(key=lambda c: -c.depth)
+        low = sum(1 for c in found if c.parts)
+        high = sum(max(c.parts, 1) for c in found)
+        floor = 2.0 * self.half / (self.base * 2.0 ** int(L.level.max()))
+        return Certified(low, high, self.eps, getattr(self, "rim_used", self.rim), floor, found, self.evaluations)

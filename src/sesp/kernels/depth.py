@@ -1,0 +1,339 @@
+"""Depth kernels: a lower bound on how deep a position lies in the excluded set, exact in φ.
+
+The depth p(t) is the distance from t to the nearest allowed position. A
+position is at least r deep when, at every orientation φ, the curves meet so
+robustly that no translation shorter than r parts them. This module proves
+that without sampling φ:
+
+* Two arcs α (of curve 1) and β (of curve 2 at t, φ) that cross an odd
+  number of times keep crossing under any motion during which no end point of
+  one touches the other (the parity of the crossing number changes only
+  there). So if every end point of α is at least r from β and every end point
+  of β at least r from α, every translation of curve 2 shorter than r leaves
+  them crossing: the pair overlaps on the whole disk of radius r about t.
+* At a fixed t, each end point moves on a circle as φ turns, and its distance
+  to a segment of the other arc reaches r only at roots of sinusoids in φ
+  (its distance to the segment's line, its projection reaching the
+  segment's ends, its distance to the segment's end points). Between those
+  roots the end points stay at least r away, so the parity is constant: one
+  chain pair certifies a whole interval of φ, found in closed form.
+
+:func:`cover` walks around the circle of orientations: at the first φ not yet
+certified it looks for an arc pair with an odd crossing number and end points
+at least r from the other arc (the whole curves first, then runs of 1, 2, 4,
+... segments about each crossing), finds the interval of φ over which that
+pair stays certified, and continues from its end. The position is certified
+r deep when the intervals close around the circle. The bound is one-sided: a
+position whose certificate fails may still be that deep (for instance where
+the curves nearly coincide and cross many times within a short run).
+
+References: the mod-2 intersection number of curves and its invariance under
+homotopy (Guillemin and Pollack, *Differential Topology*, ch. 2).
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .common import JIT, point_segment_distance2
+from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, chunk_count, sinusoid_roots
+
+MAX_CROSSINGS = 256  # crossings of the two polylines at one φ at most; more and the certificate gives up
+
+
+@njit(**JIT)
+def _orient(px, py, qx, qy, ax, ay):
+    return (qx - px) * (ay - py) - (qy - py) * (ax - px)
+
+
+@njit(**JIT)
+def crossings(v1, boxes1, w, boxes2, out):
+    """Write the segment pairs (i, j) of ``v1`` and ``w`` whose interiors cross to ``out``; return how many, or -1
+    where a pair meets degenerately (an end point exactly on the other's line), where parity is not defined."""
+    n = 0
+    for a in range(boxes1.shape[0]):
+        for b in range(boxes2.shape[0]):
+            if boxes_distance2(boxes1[a], boxes2[b]) > 0.0:
+                continue
+            for i in range(a * CHUNK, min((a + 1) * CHUNK, v1.shape[0] - 1)):
+                px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
+                for j in range(b * CHUNK, min((b + 1) * CHUNK, w.shape[0] - 1)):
+                    ax, ay, bx, by = w[j, 0], w[j, 1], w[j + 1, 0], w[j + 1, 1]
+                    d1 = _orient(px, py, qx, qy, ax, ay)
+                    d2 = _orient(px, py, qx, qy, bx, by)
+                    if d1 * d2 > 0.0:
+                        continue
+                    d3 = _orient(ax, ay, bx, by, px, py)
+                    d4 = _orient(ax, ay, bx, by, qx, qy)
+                    if d3 * d4 > 0.0:
+                        continue
+                    if d1 == 0.0 or d2 == 0.0 or d3 == 0.0 or d4 == 0.0:
+                        return -1
+                    if n < out.shape[0]:
+                        out[n, 0] = i
+                        out[n, 1] = j
+                    n += 1
+    return n
+
+
+@njit(**JIT)
+def _point_box2(x, y, box):
+    dx = max(0.0, box[0] - x, x - box[1])
+    dy = max(0.0, box[2] - y, y - box[3])
+    return dx * dx + dy * dy
+
+
+@njit(**JIT)
+def _nearest2(x, y, v, boxes, lo, hi, best2):
+    """min(best2, squared distance from (x, y) to segments lo..hi-1 of polyline v); runs of ``CHUNK`` segments
+    whose box (``boxes``) is farther than the best so far are skipped."""
+    for c in range(lo // CHUNK, (hi - 1) // CHUNK + 1):
+        if _point_box2(x, y, boxes[c]) >= best2:
+            continue
+        for k in range(max(lo, c * CHUNK), min(hi, (c + 1) * CHUNK)):
+            best2 = min(best2, point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1]))
+    return best2
+
+
+@njit(**JIT)
+def _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1):
+    """Distance of the nearest end point of run i0..i1 of v1 to run j0..j1 of w, or of an end of w's run to v1's."""
+    m2 = _nearest2(v1[i0, 0], v1[i0, 1], w, boxes2, j0, j1, np.inf)
+    m2 = _nearest2(v1[i1, 0], v1[i1, 1], w, boxes2, j0, j1, m2)
+    m2 = _nearest2(w[j0, 0], w[j0, 1], v1, boxes1, i0, i1, m2)
+    m2 = _nearest2(w[j1, 0], w[j1, 1], v1, boxes1, i0, i1, m2)
+    return math.sqrt(m2)
+
+
+@njit(**JIT)
+def _odd_runs(v1, boxes1, w, boxes2, cross, count):
+    """(i0, i1, j0, j1, margin): the runs of segments (vertices i0..i1 of v1, j0..j1 of w) with an odd number of
+    crossings whose ends are farthest from the other run; margin -1 if none: the whole curves, and runs of 1, 2,
+    4, ... segments about each crossing. The widest margin certifies the longest interval of φ."""
+    n1 = v1.shape[0] - 1
+    n2 = w.shape[0] - 1
+    best = -1.0
+    bi0 = bi1 = bj0 = bj1 = 0
+    if count % 2 == 1:
+        best = _ends_clearance(v1, boxes1, 0, n1, w, boxes2, 0, n2)
+        bi0, bi1, bj0, bj1 = 0, n1, 0, n2
+    for c in range(count):
+        i = cross[c, 0]
+        j = cross[c, 1]
+        half = 1
+        while True:
+            i0, i1 = max(0, i - half + 1), min(n1, i + half)
+            j0, j1 = max(0, j - half + 1), min(n2, j + half)
+            if i0 == 0 and j0 == 0 and i1 == n1 and j1 == n2:
+                break
+            inside = 0
+            for k in range(count):
+                inside += i0 <= cross[k, 0] < i1 and j0 <= cross[k, 1] < j1
+            if inside % 2 == 1:
+                margin = _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1)
+                if margin > best:
+                    best = margin
+                    bi0, bi1, bj0, bj1 = i0, i1, j0, j1
+            half *= 2
+    return bi0, bi1, bj0, bj1, best
+
+
+@njit(**JIT)
+def _sort(values, m):
+    for k in range(1, m):
+        value = values[k]
+        i = k - 1
+        while i >= 0 and values[i] > value:
+            values[i + 1] = values[i]
+            i -= 1
+        values[i + 1] = value
+
+
+@njit(**JIT)
+def _approach(ox, oy, ax, ay, bx, by, px, py, qx, qy, r, phi0, roots, ahead, behind):
+    """Shrink (ahead, behind): how far φ may turn from ``phi0`` before the point o + a cos φ + b sin φ (on a
+    circle: |a| = |b|, a ⊥ b) comes within ``r`` of segment p–q. (0, 0) if it is within r at ``phi0``."""
+    dx, dy = qx - px, qy - py
+    length = math.hypot(dx, dy)
+    gx, gy = ox - px, oy - py
+    m = 0
+    side, side_a, side_b = dx * gy - dy * gx, dx * ay - dy * ax, dx * by - dy * bx  # |d| × distance to the line
+    m = sinusoid_roots(side - r * length, side_a, side_b, roots, m)
+    m = sinusoid_roots(side + r * length, side_a, side_b, roots, m)
+    along, along_a, along_b = dx * gx + dy * gy, dx * ax + dy * ay, dx * bx + dy * by  # projection × |d|
+    m = sinusoid_roots(along, along_a, along_b, roots, m)
+    m = sinusoid_roots(along - length * length, along_a, along_b, roots, m)
+    radius2 = ax * ax + ay * ay
+    for ex, ey in ((px, py), (qx, qy)):  # distance to the end points
+        hx, hy = ox - ex, oy - ey
+        m = sinusoid_roots(
+            hx * hx + hy * hy + radius2 - r * r, 2 * (hx * ax + hy * ay), 2 * (hx * bx + hy * by), roots, m
+        )
+    if m == 0:  # the distance never crosses r: near at every φ or at none
+        c, s = math.cos(phi0), math.sin(phi0)
+        if point_segment_distance2(ox + ax * c + bx * s, oy + ay * c + by * s, px, py, qx, qy) <= r * r:
+            return 0.0, 0.0
+        return ahead, behind
+    _sort(roots, m)
+    for k in range(m):
+        lo = roots[k]
+        hi = roots[k + 1] if k + 1 < m else roots[0] + TWO_PI
+        if hi <= lo:
+            continue
+        mid = 0.5 * (lo + hi)
+        c, s = math.cos(mid), math.sin(mid)
+        if point_segment_distance2(ox + ax * c + bx * s, oy + ay * c + by * s, px, py, qx, qy) <= r * r:
+            if (phi0 - lo) % TWO_PI < hi - lo:
+                return 0.0, 0.0
+            ahead = min(ahead, (lo - phi0) % TWO_PI)
+            behind = min(behind, (phi0 - hi) % TWO_PI)
+    return ahead, behind
+
+
+@njit(**JIT)
+def _point_interval(ox, oy, ax, ay, bx, by, v, boxes, near, far, lo, hi, r, phi0, roots, ahead, behind):
+    """Shrink (ahead, behind) by the first φ on either side of ``phi0`` at which the point o + a cos φ + b sin φ
+    comes within ``r`` of segments lo..hi-1 of ``v``. Runs of segments are visited nearest first, and the rest
+    skipped once they are too far to be reached within the interval: the point moves at most |a| per radian.
+    ``near``, ``far``: each segment's distances from the circle's centre o; a segment that keeps out of the
+    annulus |a| ± r is never reached."""
+    c, s = math.cos(phi0), math.sin(phi0)
+    x0, y0 = ox + ax * c + bx * s, oy + ay * c + by * s
+    speed = math.hypot(ax, ay)
+    first, last = lo // CHUNK, (hi - 1) // CHUNK
+    gaps = np.empty(last - first + 1)
+    for k in range(first, last + 1):
+        gaps[k - first] = math.sqrt(_point_box2(x0, y0, boxes[k]))
+    for k in np.argsort(gaps):
+        if gaps[k] - r >= speed * max(ahead, behind):
+            break
+        chunk = first + k
+        for i in range(max(lo, chunk * CHUNK), min(hi, (chunk + 1) * CHUNK)):
+            if speed < near[i] - r or speed > far[i] + r:
+                continue
+            ahead, behind = _approach(
+                ox, oy, ax, ay, bx, by, v[i, 0], v[i, 1], v[i + 1, 0], v[i + 1, 1], r, phi0, roots, ahead, behind
+            )
+            if ahead == 0.0:
+                return 0.0, 0.0
+    return ahead, behind
+
+
+@njit(**JIT)
+def _certified_interval(
+    v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi0, roots, behind
+):
+    """(ahead, behind): the interval of φ about ``phi0`` over which every end point of the two runs stays at
+    least ``r`` from the other run. ``frame_boxes2``: chunk boxes of curve 2 in its own frame; ``near1``,
+    ``far1``: the distances of curve 1's segments from t; ``rin2``, ``rout2``: of curve 2's from its centre.
+    ``behind``: 2π to find how far back the interval reaches, 0 where only ahead matters."""
+    ahead = TWO_PI
+    for a in (i0, i1):  # a fixed end of run 1, seen from curve 2's frame, turns by −φ about the origin
+        gx, gy = v1[a, 0] - tx, v1[a, 1] - ty
+        ahead, behind = _point_interval(
+            0.0, 0.0, gx, gy, gy, -gx, v2, frame_boxes2, rin2, rout2, j0, j1, r, phi0, roots, ahead, behind
+        )
+    for b in (j0, j1):  # a moving end of run 2 turns by φ about t
+        wx, wy = v2[b, 0], v2[b, 1]
+        ahead, behind = _point_interval(
+            tx, ty, wx, wy, -wy, wx, v1, boxes1, near1, far1, i0, i1, r, phi0, roots, ahead, behind
+        )
+    return ahead, behind
+
+
+@njit(**JIT)
+def segment_radii(v, cx, cy, near, far):
+    """Nearest and farthest distance of each segment of polyline ``v`` from (cx, cy)."""
+    for k in range(v.shape[0] - 1):
+        near[k] = math.sqrt(point_segment_distance2(cx, cy, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1]))
+        far[k] = max(math.hypot(v[k, 0] - cx, v[k, 1] - cy), math.hypot(v[k + 1, 0] - cx, v[k + 1, 1] - cy))
+
+
+@njit(**JIT)
+def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, tx, ty, r, max_steps):
+    """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
+    ``max_steps`` intervals of φ; 0 if at some φ no pair of runs crosses with its ends that far apart (the
+    position may still be that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough.
+    ``boxes1``, ``frame_boxes2``: :func:`chunk_boxes` of each curve in its own frame; ``rin2``, ``rout2``:
+    :func:`segment_radii` of curve 2 about its centre."""
+    near1 = np.empty(v1.shape[0] - 1)
+    far1 = np.empty(v1.shape[0] - 1)
+    segment_radii(v1, tx, ty, near1, far1)
+    w = np.empty_like(v2)
+    boxes2 = np.empty((chunk_count(v2), 4))
+    cross = np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
+    roots = np.empty(16)
+    phi = 0.0
+    first_behind = 0.0
+    for step in range(max_steps):
+        count = -1
+        for _ in range(3):  # beside a degenerate touch the parity is defined
+            c, s = math.cos(phi), math.sin(phi)
+            for k in range(v2.shape[0]):
+                w[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
+                w[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
+            chunk_boxes(w, boxes2)
+            count = crossings(v1, boxes1, w, boxes2, cross)
+            if count >= 0:
+                break
+            phi += 1e-9
+        if count < 0 or count > MAX_CROSSINGS:
+            return 0
+        i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count)
+        if margin < r:
+            return 0
+        ahead, behind = _certified_interval(
+            v1,
+            boxes1,
+            near1,
+            far1,
+            i0,
+            i1,
+            v2,
+            frame_boxes2,
+            rin2,
+            rout2,
+            j0,
+            j1,
+            tx,
+            ty,
+            r,
+            phi,
+            roots,
+            TWO_PI if step == 0 else 0.0,
+        )
+        if step == 0:
+            first_behind = behind
+        if phi + ahead >= TWO_PI - first_behind:
+            return 1
+        phi += ahead + 1e-12  # the interval is closed: its end is certified
+    return -1
+
+
+@njit(**JIT, parallel=True)
+def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, xs, ys, rs, max_steps, out):
+    """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` with ``max_steps[p]`` intervals. Each position
+    is written by one thread."""
+    for p in prange(xs.shape[0]):
+        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, xs[p], ys[p], rs[p], max_steps[p])
+
+
+def prepared(v1, v2):
+    """The arguments of :func:`cover` that depend on the curves only."""
+    boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
+    rin2, rout2 = np.empty(v2.shape[0] - 1), np.empty(v2.shape[0] - 1)
+    segment_radii(v2, 0.0, 0.0, rin2, rout2)
+    return v1, boxes1, v2, chunk_boxes(v2, np.empty((chunk_count(v2), 4))), rin2, rout2
+
+
+def certified_deep(prepared_curves, xs, ys, rs, max_steps):
+    """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b) with ``max_steps`` intervals of φ
+    (broadcast); ``prepared_curves``: :func:`prepared`."""
+    xs = np.ascontiguousarray(xs, dtype=float)
+    ys = np.ascontiguousarray(ys, dtype=float)
+    rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
+    steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
+    out = np.zeros(xs.shape[0], dtype=np.int8)
+    cover_at(*prepared_curves, xs, ys, rs, steps, out)
+    return out

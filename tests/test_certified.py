@@ -1,0 +1,78 @@
+"""Certified excluded components: the ASP's exact set, rotation invariance, the depth certificate's soundness."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sesp import Polyline, SeSP
+from sesp.certified import certified_components
+from sesp.kernels import depth as depth_kernels
+from sesp.pair import as_pair
+
+COARSE = dict(resolution=1e-3, rim=1e-2)  # b: lengths that keep these tests to seconds
+
+
+def _asp(degrees):
+    return SeSP(n=2, opening=math.radians(degrees))
+
+
+def test_asp_at_90_degrees_is_lens_and_body_with_the_exact_lens():
+    """Two components (the centre is a pinch); the lens's inscribed radius is 1 − sin(Ψ/2) and its area
+    (π − Ψ) − sin Ψ: the certified depth is a lower bound close to it, the areas bracket it."""
+    psi = math.radians(90)
+    found = certified_components(_asp(90), **COARSE)
+    assert (found.low, found.high) == (2, 2)
+    lens = min(found.components, key=lambda c: c.area)
+    exact_depth = 1 - math.sin(psi / 2)
+    assert exact_depth - 1e-3 <= lens.depth <= exact_depth + 1e-4  # the polyline's departure: under 1e-4 b
+    exact_area = (math.pi - psi) - math.sin(psi)
+    assert lens.area <= exact_area <= lens.area_bound + 0.01
+    assert lens.box[0] > 0  # right of the centre
+
+
+def test_no_excluded_component_past_pi():
+    found = certified_components(_asp(200), **COARSE)
+    assert (found.low, found.high) == (0, 0) and found.components == []
+
+
+def test_resolution_rim_and_base_are_checked():
+    with pytest.raises(ValueError, match="resolution"):
+        certified_components(_asp(90), resolution=-1.0)
+    with pytest.raises(ValueError, match="rim"):
+        certified_components(_asp(90), resolution=1e-3, rim=1e-4)
+    with pytest.raises(ValueError, match="base"):
+        certified_components(_asp(90), base=2)
+
+
+def test_counts_unchanged_when_both_frames_turn_together():
+    """Turning the particle's own frame by α turns the whole excluded set by α: the count is the same, and the
+    components now lie on no axis."""
+    curve = _asp(60).polyline(128).vertices
+    a = 0.37
+    turned = curve @ np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]])
+    plain = certified_components(Polyline(curve), **COARSE)
+    rotated = certified_components(Polyline(turned), **COARSE)
+    assert (plain.low, plain.high) == (rotated.low, rotated.high) == (2, 2)
+    plain, rotated = (sorted(f.components, key=lambda c: c.area) for f in (plain, rotated))
+    assert [c.area for c in plain] == pytest.approx([c.area for c in rotated], rel=0.1)
+    assert [c.depth for c in plain] == pytest.approx([c.depth for c in rotated], abs=2e-3)
+
+
+def test_depth_certificate_is_a_lower_bound_on_the_asps_lens_depth():
+    """Along the axis through the lens the best certified depth never exceeds the exact inscribed radius
+    1 − sin(Ψ/2) (beyond the polyline's departure from the circle, under 1e-4 b at 256 segments) and comes
+    within 1 % of it."""
+    psi = math.radians(90)
+    pair = as_pair(_asp(90), segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    exact = 1 - math.sin(psi / 2)
+    best = 0.0
+    for x in np.linspace(0.05, 1.95, 39):
+        lo, hi = 1e-6, 1.0
+        for _ in range(20):
+            mid = math.sqrt(lo * hi)
+            ok = depth_kernels.certified_deep(curves, np.array([x]), np.array([0.0]), np.array([mid]), np.array([1024]))
+            lo, hi = (mid, hi) if ok[0] == 1 else (lo, mid)
+        best = max(best, lo)
+    assert exact * 0.99 <= best <= exact + 1e-4
