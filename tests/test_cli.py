@@ -6,6 +6,7 @@ import sys
 import numpy as np
 import pytest
 
+import sesp
 from sesp import load
 from sesp.cli import main
 
@@ -155,3 +156,10 @@ def test_area_of_closed_circles_is_four_pi_within_its_error_bar(capsys):
     assert abs(out["mean_excluded_area"] - 4 * math.pi) <= out["mean_excluded_area_error"]
     assert out["mean_excluded_area"] == pytest.approx(4 * math.pi, rel=1e-4)
     assert main(["area", "--rows", "100"]) == 2 and "multiple of 8" in capsys.readouterr().err
+
+
+def test_version_is_the_package_s(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.strip() == f"sesp {sesp.__version__}"

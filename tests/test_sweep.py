@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sesp.sweep import SweepError, collect, load_spec, run
+from sesp.shape import DEFAULT_SEGMENTS
+from sesp.sweep import DEFAULT_GRID, SweepError, collect, load_spec, run
 
 from cases import ROOT, SMALL, content_digest, point_files, write_sweep
 
@@ -52,7 +53,7 @@ def test_radians_and_degrees_name_the_same_points(tmp_path):
     [
         (("nphi = 16", "nphi = 16\ncolour = 3"), ["unknown key 'colour'", "[grid]"]),
         (("[output]", "[plots]\nx = 1\n[output]"), ["unknown section [plots]"]),
-        (('angles = "degrees"\n', ""), ["missing key 'angles'"]),
+        (("opening = { start = 30, stop = 120, step = 30 }\n", ""), ["missing key 'opening'"]),
         (("degrees", "gradians"), ["angles"]),
         (("stop = 120", "stop = 400"), ["opening", "360 degrees", "[0, 360) degrees"]),
         (("stop = 120", "stop = inf"), ["finite"]),
@@ -267,3 +268,14 @@ def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_p
     assert not list((tmp_path / "out").glob(".*.tmp"))
     run(path, workers=1, progress=False)  # resumes
     assert len(point_files(tmp_path / "out")) == 20
+
+
+def test_a_sweep_file_needs_only_its_particles(tmp_path):
+    """Output folder, angle unit, grid, segments and keep default to the documented values."""
+    path = write_sweep(tmp_path, "[particle]\nn = 8\nopening = [60, 90]\n", "bare.toml")
+    spec = load_spec(path)
+    assert spec.output == tmp_path / "results" / "bare"
+    assert spec.grid == DEFAULT_GRID == {"nx": 128, "nphi": 128}
+    assert list(spec.keep) == ["excluded_area"]
+    assert spec.particle["opening"] == (math.radians(60), math.radians(90))
+    assert spec.particle["segments"] == (DEFAULT_SEGMENTS,)

@@ -10,10 +10,11 @@ Sweep file
 ----------
 .. code-block:: toml
 
-    [sweep]
-    name = "quick"              # optional, default: the file's stem
+    [sweep]                     # optional, and so is each of its keys
+    name = "quick"              # default: the file's stem
     output = "results/quick"    # folder for point files and the collected file, relative to this file
-    angles = "degrees"          # "degrees" or "radians": unit of every angle here
+                                # (default: results/<the file's stem>)
+    angles = "degrees"          # "degrees" (default) or "radians": unit of every angle here
 
     [particle]                  # a value, a list, or a range table
     n = [2, 8]
@@ -34,12 +35,20 @@ the shape keys, in ``[particle]`` or ``[other]``:
     [particle]
     vertices = [[-1.0, 0.0], [1.0, 0.0]]
 
-    [grid]
+    [grid]                      # optional; default nx = 128, nphi = 128
     nx = 128
-    nphi = 64                   # ny optional
+    nphi = 64                   # ny optional (default nx)
 
-    [output]
+    [output]                    # optional; default keep = ["excluded_area"]
     keep = ["excluded_area", "classes", "topology"]   # and/or "allowed" (the field)
+
+The shortest sweep file names its particles alone:
+
+.. code-block:: toml
+
+    [particle]
+    n = 8
+    opening = [60, 90, 120]
 
 Ranges are ``{start, stop, step}`` or ``{start, stop, num}``.
 """
@@ -97,7 +106,11 @@ SCHEMA = {
     "grid": {"nx": int, "ny": int, "nphi": int},
     "output": {"keep": list},
 }
-REQUIRED = {"sweep": ("output", "angles"), "particle": ("n", "opening"), "grid": ("nx", "nphi")}
+REQUIRED = {"particle": ("n", "opening")}
+# What a sweep file may leave out: the output folder (results/<file stem>, beside the file), degrees, this grid
+# (the quick sweep's: 128 x 128 positions, 128 orientations) and, in [output], the excluded area alone.
+DEFAULT_ANGLES = "degrees"
+DEFAULT_GRID = {"nx": 128, "nphi": 128}
 MANIFEST = "sweep.json"
 # Version of what a point file holds: points written under another version are recomputed, not mixed in.
 POINT_FORMAT = 2
@@ -336,7 +349,8 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise SweepError(f"{path}: not valid TOML ({err})") from None
     _check_schema(path, doc)
-    angles = doc["sweep"]["angles"]
+    head = doc.get("sweep", {})
+    angles = head.get("angles", DEFAULT_ANGLES)
     if angles not in ("degrees", "radians"):
         raise SweepError(f"{path}: [sweep] angles must be 'degrees' or 'radians', got {angles!r}")
     to_rad = math.radians if angles == "degrees" else float
@@ -357,8 +371,8 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     particle = section("particle")
     particle.setdefault("segments", (DEFAULT_SEGMENTS,))
     other = section("other")
-    grid = {k: v[0] for k, v in section("grid").items()}
-    for k, v in doc["grid"].items():
+    grid = {**DEFAULT_GRID, **{k: v[0] for k, v in (section("grid") or {}).items()}}
+    for k, v in doc.get("grid", {}).items():
         if isinstance(v, (list, dict)):
             raise SweepError(f"{path}: [grid] {k} must be a single integer")
     try:
@@ -366,8 +380,8 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     except ValueError as err:
         raise SweepError(f"{path}: [output] {err}") from None
     spec = SweepSpec(
-        name=_string(path, "name", doc["sweep"].get("name", path.stem)),
-        output=_output_folder(path, doc["sweep"]["output"], output),
+        name=_string(path, "name", head.get("name", path.stem)),
+        output=_output_folder(path, head.get("output", f"results/{path.stem}"), output),
         particle=particle,
         other=other,
         grid=grid,
