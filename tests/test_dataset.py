@@ -12,6 +12,7 @@ from sesp import (
     analyze,
     cell_area,
     describe,
+    excluded_map,
     grid_of,
     load,
     monte_carlo,
@@ -40,6 +41,8 @@ def _files(tmp_path):
     collected = run(write_sweep(tmp_path, SMALL.format(out=tmp_path / "sweep")), workers=1, progress=False)
     files["point"] = point_files(tmp_path / "sweep")[0]
     files["sweep"] = collected
+    found = excluded_map(asp, base=16, floor=1e-2, segments=16)
+    files["map"] = save(found.dataset(), tmp_path / "map.nc")
     return files
 
 
@@ -56,6 +59,7 @@ KINDS = {
     "monte_carlo": "sesp.monte_carlo",
     "point": "sesp.point",
     "sweep": "sesp.sweep",
+    "map": "sesp.map",
 }
 
 
@@ -117,3 +121,22 @@ def test_every_variable_and_coordinate_is_labelled_and_the_file_is_cf(files, kin
         assert var.attrs.get("long_name"), f"{kind}: {name} has no long_name"
         if "flag_values" not in var.attrs:  # CF flag variables carry flag meanings instead of units
             assert "units" in var.attrs, f"{kind}: {name} has no units"
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_units_read_by_cf_tools_as_what_they_are(files, kind):
+    """cf-xarray's UDUNITS registry (pint) reads every variable's units; lengths and areas, reduced by b, are
+    pure numbers (units "1", with ``in_units_of``), never "b", which UDUNITS reads as the barn."""
+    from cf_xarray.units import units as udunits
+
+    ds = load(files[kind])
+    checked = 0
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        if "units" not in var.attrs:
+            continue
+        unit = udunits.Unit(var.attrs["units"])  # raises where UDUNITS cannot read it
+        if "in_units_of" in var.attrs:
+            assert unit.dimensionless and var.attrs["in_units_of"] in ("b", "b^2", "b^-2"), (kind, name)
+            checked += 1
+        assert var.attrs["units"] not in ("b", "b^2", "b^-2"), f"{kind}: {name} in barns"
+    assert checked > 0, f"{kind}: no length or area found"

@@ -21,6 +21,7 @@ from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS, SeSP
 from .topology import excluded_components
+from .units import AREA, LENGTH
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 
@@ -108,8 +109,8 @@ def analyze(
         * ``"topology"``: ``excluded_components`` (robust count) and
           ``component_area(component)`` (b², largest first, NaN-padded to
           ``COMPONENTS_KEPT``) and ``component_radius(component)`` (inscribed
-          radius in node spacings: below ``RESOLVED_PEAK`` a component is at
-          the grid's reach);
+          radius on the lattice, b: below ``RESOLVED_PEAK`` node spacings a
+          component is at the grid's reach);
         * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}
@@ -142,11 +143,11 @@ def analyze(
     for name, value in onsager_variables(ds.excluded_area, error=correlated, correlated=True).items():
         ds[name] = value
     ds["second_virial_coefficient_error"] = (ds.mean_excluded_area_error / 2).assign_attrs(
-        units="b^2", long_name="error bar of B2"
+        **AREA, long_name="error bar of B2"
     )
     if "entangled_area" in ds:
         ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
-            units="b^2", long_name="orientation-averaged entangled area A_ent"
+            **AREA, long_name="orientation-averaged entangled area A_ent"
         )
     if "topology" in keep:
         _add_components(ds)
@@ -226,7 +227,7 @@ def _add_normalized(ds, pair, grid):
         units="1", long_name="error bar of the orientation-averaged A_ex / A_ex of the closed shape"
     )
     ds["closed_excluded_area"] = xr.DataArray(
-        reference, attrs={"units": "b^2", "long_name": "orientation-averaged A_ex of the closed shape"}
+        reference, attrs={**AREA, "long_name": "orientation-averaged A_ex of the closed shape"}
     )
 
 
@@ -236,15 +237,16 @@ def _add_components(ds):
     areas = np.full(COMPONENTS_KEPT, np.nan)
     areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
     radii = np.full(COMPONENTS_KEPT, np.nan)
-    radii[: min(comps.count, COMPONENTS_KEPT)] = comps.peaks[:COMPONENTS_KEPT]
+    spacing = float(ds.x[1] - ds.x[0])  # b: the lattice's node spacing, the unit of the distances it measures
+    radii[: min(comps.count, COMPONENTS_KEPT)] = comps.peaks[:COMPONENTS_KEPT] * spacing
     ds["excluded_components"] = xr.DataArray(
         comps.count, attrs={"long_name": "robust count of excluded components", "units": "1"}
     )
     ds["component_area"] = xr.DataArray(
-        areas, dims="component", attrs={"units": "b^2", "long_name": "areas of the excluded components, largest first"}
+        areas, dims="component", attrs={**AREA, "long_name": "areas of the excluded components, largest first"}
     )
     ds["component_radius"] = xr.DataArray(
         radii,
         dims="component",
-        attrs={"units": "node spacings", "long_name": "inscribed radius of each excluded component"},
+        attrs={**LENGTH, "long_name": "inscribed radius of each excluded component on the lattice"},
     )

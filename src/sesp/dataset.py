@@ -38,6 +38,7 @@ from . import version
 from .grid import Grid
 from .pair import Pair
 from .shape import Polyline, SeSP
+from .units import LENGTH
 
 __all__ = [
     "FORMATS",
@@ -112,8 +113,8 @@ def format_of(ds) -> str | None:
 
 
 TITLES = {
-    "sesp.scan": "allowed states of a pair of superellipse sector particles on an (x, y, phi) grid",
-    "sesp.summary": "excluded area and position classes of a pair of superellipse sector particles",
+    "sesp.scan": "allowed states of a particle pair on an (x, y, phi) grid (particles: see particle_kind, other_kind)",
+    "sesp.summary": "excluded area and position classes of a particle pair (particles: see particle_kind, other_kind)",
     "sesp.point": "one parameter point of a sesp sweep",
     "sesp.sweep": "collected sesp sweep over particle parameters",
     "sesp.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
@@ -160,7 +161,8 @@ def parameter_attrs(name: str) -> dict:
     """``long_name`` and ``units`` of a sweep parameter coordinate (``other_`` names: particle 2's)."""
     base = name.removeprefix("other_")
     long_name, units = PARAMETER_ATTRS.get(base, (base, "1"))
-    return {"long_name": long_name if base == name else f"{long_name} of particle 2", "units": units}
+    unit_attrs = LENGTH if units == "b" else {"units": units}
+    return {"long_name": long_name if base == name else f"{long_name} of particle 2", **unit_attrs}
 
 
 # --- particles and pairs ---------------------------------------------------------------
@@ -186,7 +188,7 @@ def pair_variables(pair: Pair) -> dict:
             curve.vertices.copy(),
             {
                 "long_name": f"vertices of {'particle 1' if prefix == 'particle' else 'particle 2'}'s polyline",
-                "units": "b",
+                **LENGTH,
             },
         )  # fmt: skip
         for prefix, curve in (("particle", pair.curve1), ("other", pair.curve2))
@@ -257,8 +259,8 @@ def coords(grid: Grid, dims=FIELD_DIMS) -> dict:
     """Labelled coordinates of ``grid`` along ``dims``."""
     every = {
         "phi": ("phi", grid.phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
-        "y": ("y", grid.y, {"units": "b", "long_name": "y of particle 2's centre"}),
-        "x": ("x", grid.x, {"units": "b", "long_name": "x of particle 2's centre"}),
+        "y": ("y", grid.y, {**LENGTH, "long_name": "y of particle 2's centre"}),
+        "x": ("x", grid.x, {**LENGTH, "long_name": "x of particle 2's centre"}),
     }
     return {d: every[d] for d in dims}
 

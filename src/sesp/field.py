@@ -24,6 +24,7 @@ from .pair import Pair, as_pair
 from .progress import progress_bar
 from .reductions import StoredField
 from .shape import DEFAULT_SEGMENTS
+from .units import AREA, LENGTH
 
 __all__ = [
     "TruncatedBoxWarning",
@@ -319,12 +320,12 @@ def monte_carlo(
     overlap_ = overlap_ > 0
     p = overlap_.mean()
     attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
-    area = {"units": "b^2"}
+    area = dict(AREA)
     return xr.Dataset(
         {
             **pair_variables(pair),
-            "x": ("sample", x, {"units": "b", "long_name": "x of particle 2's centre"}),
-            "y": ("sample", y, {"units": "b", "long_name": "y of particle 2's centre"}),
+            "x": ("sample", x, {**LENGTH, "long_name": "x of particle 2's centre"}),
+            "y": ("sample", y, {**LENGTH, "long_name": "y of particle 2's centre"}),
             "phi": ("sample", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
             "overlap": ("sample", overlap_, {"units": "1", "long_name": "the particles overlap"}),
             "excluded_area": ((), p * side**2, {**area, "long_name": "excluded area A_ex"}),

@@ -211,6 +211,7 @@ from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
 from .topology import PINCH_RATIO, RESOLVED_PEAK, components, distance_to_complement, opening_family, renumbered
+from .units import AREA, LENGTH
 
 __all__ = [
     "MapComponent",
@@ -338,6 +339,26 @@ class MapComponent:
         }
 
 
+MAP_LONG_NAMES = {
+    "component": "excluded component (1, 2, ...)",
+    "area": "area of the component",
+    "inscribed_radius": "inscribed radius of the component",
+    "touches_floor": "the component reaches cells of the floor",
+    "floor_limited": "the component's count depends on cells of the floor",
+    "encloses_slivers": "the component encloses allowed slivers",
+    "mirror_joined": "the component was joined to its mirror image",
+    "unresolved": "the component is unresolved",
+    "bbox": "bounding box of the component",
+    "node_x": "x of an excluded node",
+    "node_y": "y of an excluded node",
+    "node_cell": "cell side of an excluded node",
+    "node_component": "component of an excluded node",
+    "channel_x": "x of a certified allowed disk",
+    "channel_y": "y of a certified allowed disk",
+    "channel_radius": "radius of a certified allowed disk",
+}
+
+
 @dataclass(frozen=True)
 class ExcludedMap:
     """The excluded set's components on an adaptive map (see the module notes)."""
@@ -423,7 +444,7 @@ class ExcludedMap:
         label = np.concatenate([np.full(len(c.x), k, dtype=np.int32) for k, c in enumerate(comps, start=1)] or [[]])
 
         def nodes(name):
-            return "node", np.concatenate([getattr(c, name) for c in comps] or [[]]).astype(float), {"units": "b"}
+            return "node", np.concatenate([getattr(c, name) for c in comps] or [[]]).astype(float), dict(LENGTH)
 
         def flags(name):
             return "component", np.array([getattr(c, name) for c in comps], dtype=bool)
@@ -432,29 +453,33 @@ class ExcludedMap:
 
         attrs = base_attrs("sesp.map") | ({} if self.pair is None else pair_attrs(self.pair))
         attrs |= {name: getattr(self, name) for name in _MAP_ATTRS}
-        return xr.Dataset(
+        ds = xr.Dataset(
             {
-                "area": ("component", np.array([c.area for c in comps], dtype=float), {"units": "b^2"}),
+                "area": ("component", np.array([c.area for c in comps], dtype=float), dict(AREA)),
                 "inscribed_radius": (
-                    "component", np.array([c.inscribed_radius for c in comps], dtype=float), {"units": "b"}
+                    "component", np.array([c.inscribed_radius for c in comps], dtype=float), dict(LENGTH)
                 ),
                 "touches_floor": flags("touches_floor"),
                 "floor_limited": flags("floor_limited"),
                 "encloses_slivers": flags("encloses_slivers"),
                 "mirror_joined": flags("mirror_joined"),
                 "unresolved": ("component", np.array([bool(self.limit(c)) for c in comps], dtype=bool)),
-                "bbox": (("component", "side"), box, {"units": "b", "sides": "xmin xmax ymin ymax"}),
+                "bbox": (("component", "side"), box, {**LENGTH, "sides": "xmin xmax ymin ymax"}),
                 "node_x": nodes("x"),
                 "node_y": nodes("y"),
                 "node_cell": nodes("cell"),
                 "node_component": ("node", label.astype(np.int32)),
-                "channel_x": ("disk", disks[:, 0], {"units": "b"}),
-                "channel_y": ("disk", disks[:, 1], {"units": "b"}),
-                "channel_radius": ("disk", disks[:, 2], {"units": "b"}),
+                "channel_x": ("disk", disks[:, 0], dict(LENGTH)),
+                "channel_y": ("disk", disks[:, 1], dict(LENGTH)),
+                "channel_radius": ("disk", disks[:, 2], dict(LENGTH)),
             },
             coords={"component": np.arange(1, len(comps) + 1)},
             attrs=attrs,
         )  # fmt: skip
+        for name, long_name in MAP_LONG_NAMES.items():
+            ds[name].attrs.setdefault("units", "1")
+            ds[name].attrs["long_name"] = long_name
+        return ds
 
     @classmethod
     def from_dataset(cls, ds: xr.Dataset) -> ExcludedMap:
@@ -1562,12 +1587,12 @@ def _transitions_dataset(floored, brackets, floor, base):
         {
             "count": ("opening", [maps[o].count for o in openings]),
             "off_axis": ("opening", [maps[o].off_axis for o in openings]),
-            "area": (("opening", "component"), area, {"units": "b^2"}),
-            "inscribed_radius": (("opening", "component"), radius, {"units": "b"}),
+            "area": (("opening", "component"), area, dict(AREA)),
+            "inscribed_radius": (("opening", "component"), radius, dict(LENGTH)),
             "touches_floor": (("opening", "component"), at_floor),
             "unresolved": (("opening", "component"), unresolved),
-            "departure": ("opening", [maps[o].departure for o in openings], {"units": "b"}),
-            "map_floor": ("opening", [floored[o][1] for o in openings], {"units": "b"}),
+            "departure": ("opening", [maps[o].departure for o in openings], dict(LENGTH)),
+            "map_floor": ("opening", [floored[o][1] for o in openings], dict(LENGTH)),
             "low": ("transition", low, {"units": "rad"}),
             "high": ("transition", high, {"units": "rad"}),
             "low_degrees": ("transition", np.degrees(low), {"units": "degree"}),
@@ -1577,7 +1602,7 @@ def _transitions_dataset(floored, brackets, floor, base):
             "off_axis_low": ("transition", np.array([maps[b[0]].off_axis for b in brackets], dtype=int)),
             "off_axis_high": ("transition", np.array([maps[b[1]].off_axis for b in brackets], dtype=int)),
             "transition_unresolved": ("transition", np.array(ends_unresolved, dtype=bool)),
-            "transition_floor": ("transition", np.array([b[2] for b in brackets], dtype=float), {"units": "b"}),
+            "transition_floor": ("transition", np.array([b[2] for b in brackets], dtype=float), dict(LENGTH)),
             "changed_low": (("transition", "component"), changed_low),
             "changed_high": (("transition", "component"), changed_high),
         },

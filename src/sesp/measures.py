@@ -19,6 +19,7 @@ from .grid import Grid
 from .kernels import overlap, scanline
 from .pair import Pair, as_pair
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
+from .units import AREA, LENGTH
 
 __all__ = [
     "excluded_area",
@@ -35,7 +36,7 @@ __all__ = [
     "excluded_perimeter",
 ]
 
-_AREA = {"units": "b^2"}
+_AREA = dict(AREA)
 
 
 def _excluded_states(allowed, axis=None):
@@ -424,5 +425,5 @@ def excluded_perimeter(particle, grid: Grid | None = None, *, other=None, segmen
     areas = [shifted_excluded_area(pair.thickened(extra), grid) for extra in (0.0, step, 2 * step)]
     slope = (4 * areas[1] - areas[2] - 3 * areas[0]) / (2 * step)
     return slope.rename("excluded_perimeter").assign_attrs(
-        units="b", long_name="perimeter of the excluded set P_ex(φ) = dA_ex/dD", step=step
+        **LENGTH, long_name="perimeter of the excluded set P_ex(φ) = dA_ex/dD", step=step
     )

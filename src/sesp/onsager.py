@@ -52,6 +52,8 @@ import math
 import numpy as np
 import xarray as xr
 
+from .units import AREA, DENSITY
+
 __all__ = [
     "orientational_spectrum",
     "second_virial",
@@ -156,9 +158,9 @@ def orientational_spectrum(
                 propagated = np.sqrt((xr.DataArray(per_phi) ** 2 * basis**2).sum("phi")) * (2.0 / len(phi))
                 if _mirrored(excluded_area):  # A(−φ) is a copy of A(φ): half as many independent errors
                     propagated = propagated * math.sqrt(2.0)
-        out[name] = coeff.assign_attrs(units="b^2", long_name=f"{'cosine' if name == 'a' else 'sine'} coefficient")
+        out[name] = coeff.assign_attrs(**AREA, long_name=f"{'cosine' if name == 'a' else 'sine'} coefficient")
         out[f"{name}_error"] = np.sqrt(quadrature**2 + propagated**2).assign_attrs(
-            units="b^2", long_name=f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)"
+            **AREA, long_name=f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)"
         )
     ds = xr.Dataset(out)
     ds["k"].attrs.update(long_name="order k of the Fourier mode cos kφ", units="1")
@@ -168,7 +170,7 @@ def orientational_spectrum(
 def second_virial(excluded_area: xr.DataArray) -> xr.DataArray:
     """B₂ = ⟨A_ex⟩ / 2 = a₀/4, in b² (the orientation average of A_ex(φ) over the uniform φ grid)."""
     _check_phi(excluded_area)
-    return (excluded_area.mean("phi") / 2).assign_attrs(units="b^2", long_name="second virial coefficient B2")
+    return (excluded_area.mean("phi") / 2).assign_attrs(**AREA, long_name="second virial coefficient B2")
 
 
 def virial_matrix(aa: xr.DataArray, ab: xr.DataArray, bb: xr.DataArray) -> xr.DataArray:
@@ -179,7 +181,7 @@ def virial_matrix(aa: xr.DataArray, ab: xr.DataArray, bb: xr.DataArray) -> xr.Da
     b = [[second_virial(aa), second_virial(ab)], [second_virial(ab), second_virial(bb)]]
     rows = [xr.concat(row, dim="species_j") for row in b]
     out = xr.concat(rows, dim="species_i").assign_coords(species_i=["A", "B"], species_j=["A", "B"])
-    return out.assign_attrs(units="b^2", long_name="second virial coefficients B2_ij of the mixture")
+    return out.assign_attrs(**AREA, long_name="second virial coefficients B2_ij of the mixture")
 
 
 def mixture_second_virial(matrix: xr.DataArray, fraction_a: float) -> xr.DataArray:
@@ -189,7 +191,7 @@ def mixture_second_virial(matrix: xr.DataArray, fraction_a: float) -> xr.DataArr
         raise ValueError(f"fraction_a must be in [0, 1], got {fraction_a!r}")
     weights = xr.DataArray([x, 1 - x], dims="species_i", coords={"species_i": ["A", "B"]})
     total = (matrix * weights * weights.rename(species_i="species_j")).sum(("species_i", "species_j"))
-    return total.assign_attrs(units="b^2", long_name=f"mixture B2 at mole fraction {x:g} of A")
+    return total.assign_attrs(**AREA, long_name=f"mixture B2 at mole fraction {x:g} of A")
 
 
 def instabilities(
@@ -219,8 +221,8 @@ def instabilities(
         {
             "a": a,
             "a_error": a_error,
-            "density": density.assign_attrs(units="b^-2", long_name="isotropic instability density rho*_k"),
-            "density_error": density_error.assign_attrs(units="b^-2", long_name="error bar of rho*_k"),
+            "density": density.assign_attrs(**DENSITY, long_name="isotropic instability density rho*_k"),
+            "density_error": density_error.assign_attrs(**DENSITY, long_name="error bar of rho*_k"),
             "reduced_density": (density * mean).assign_attrs(units="1", long_name="rho*_k <A_ex>"),
             "reduced_density_error": (density_error * mean).assign_attrs(
                 units="1", long_name="error bar of rho*_k <A_ex>"
@@ -254,7 +256,7 @@ def contact_density(excluded_area: xr.DataArray, contacts: float) -> xr.DataArra
     z = float(contacts)
     if not (math.isfinite(z) and z > 0):
         raise ValueError(f"contacts must be a finite number > 0, got {contacts!r}")
-    return (z / excluded_area.mean("phi")).assign_attrs(units="b^-2", long_name=f"density of {z:g} mean contacts")
+    return (z / excluded_area.mean("phi")).assign_attrs(**DENSITY, long_name=f"density of {z:g} mean contacts")
 
 
 def onsager_variables(
@@ -267,7 +269,7 @@ def onsager_variables(
     fewer than 3 orientations only B₂ is returned. ``error`` and ``correlated``
     as for :func:`orientational_spectrum`.
     """
-    b2 = (excluded_area.mean("phi") / 2).assign_attrs(units="b^2", long_name="second virial coefficient B2")
+    b2 = (excluded_area.mean("phi") / 2).assign_attrs(**AREA, long_name="second virial coefficient B2")
     order = min(order, (excluded_area.sizes["phi"] - 1) // 2)
     orders = [k for k in orders if k <= order]
     if not orders:  # too few orientations for a spectrum

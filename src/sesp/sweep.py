@@ -113,7 +113,7 @@ DEFAULT_ANGLES = "degrees"
 DEFAULT_GRID = {"nx": 128, "nphi": 128}
 MANIFEST = "sweep.json"
 # Version of what a point file holds: points written under another version are recomputed, not mixed in.
-POINT_FORMAT = 2
+POINT_FORMAT = 3
 
 
 class SweepError(ValueError):
