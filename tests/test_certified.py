@@ -1,5 +1,6 @@
 """Certified excluded components: the ASP's exact set, rotation invariance, the depth certificate's soundness."""
 
+import json
 import math
 
 import numpy as np
@@ -7,10 +8,11 @@ import pytest
 
 from sesp import Polyline, SeSP
 from sesp.certified import certified_components
+from sesp.cli import main
 from sesp.kernels import depth as depth_kernels
 from sesp.pair import as_pair
 
-COARSE = dict(resolution=1e-3, rim=1e-2)  # b: lengths that keep these tests to seconds
+COARSE = dict(resolution=1e-3)  # b: a resolution that keeps these tests to seconds
 
 
 def _asp(degrees):
@@ -76,3 +78,19 @@ def test_depth_certificate_is_a_lower_bound_on_the_asps_lens_depth():
             lo, hi = (mid, hi) if ok[0] == 1 else (lo, mid)
         best = max(best, lo)
     assert exact * 0.99 <= best <= exact + 1e-4
+
+
+def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_components(tmp_path, capsys):
+    png = tmp_path / "components.png"
+    command = ["topology", "--n", "2", "--opening", "90", "--resolution", "1e-3", "--base", "32", "--quiet"]
+    assert main([*command, "--json", "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["n"], out["opening_deg"], out["segments"]) == (2.0, 90.0, 256)
+    assert (out["count"], out["count_low"], out["count_high"], out["resolution"]) == (2, 2, 2, 1e-3)
+    assert out["units"] == {"lengths": "b", "areas": "b^2"}
+    assert [c["status"] for c in out["components"]] == ["one component"] * 2
+    assert png.stat().st_size > 20_000
+    assert main(command) == 0
+    assert "2 excluded components" not in capsys.readouterr().out  # the text report says it its own way
+    assert main([*command, "--maps-folder", str(tmp_path)]) == 2
+    assert "--maps-folder" in capsys.readouterr().err

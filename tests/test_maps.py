@@ -809,32 +809,6 @@ def test_a_map_saved_and_read_back_keeps_its_components_and_marks(tmp_path, caps
     assert "2 components" in capsys.readouterr().out
 
 
-@pytest.mark.slow
-def test_cli_one_opening_as_json(capsys):
-    assert main(["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]) == 0
-    out = json.loads(capsys.readouterr().out)
-    assert out["opening_deg"] == 90 and out["count"] == 2
-    assert {"area", "inscribed_radius", "bbox", "touches_floor", "encloses_slivers", "unresolved"} <= set(
-        out["components"][0]
-    )
-    assert out["components"][0]["unresolved"] == "" and 0 < out["departure"] < 1e-4
-    assert out["channel_disks"] == 0  # no sliver at 90°: no channel followed
-
-
-@pytest.mark.slow
-def test_cli_one_opening_keeps_its_map_in_the_maps_folder(tmp_path, capsys):
-    command = ["topology", "--n", "2", "--opening", "90", "--json", "--base", "48", "--quiet"]
-    assert main([*command, "--maps-folder", str(tmp_path)]) == 0
-    made = capsys.readouterr().out
-    (path,) = tmp_path.glob("map_*.nc")
-    assert ExcludedMap.from_dataset(load(path)).count == json.loads(made)["count"] == 2
-    assert main([*command, "--maps-folder", str(tmp_path), "--plot", str(tmp_path / "map.png")]) == 0
-    assert capsys.readouterr().out == made  # read back, the same components
-    assert (tmp_path / "map.png").stat().st_size > 10_000
-    assert main([*command[:-3], "--base", "64", "--quiet", "--maps-folder", str(tmp_path)]) == 2
-    assert "base_cells differ" in capsys.readouterr().err
-
-
 def test_map_arguments_are_checked():
     with pytest.raises(ValueError, match="base"):
         excluded_map(ASP90, base=4)

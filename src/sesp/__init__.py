@@ -11,6 +11,7 @@ modules behind it.
 
 from . import exact, onsager, plot, topology, version
 from .analysis import analyze
+from .certified import Certified, certified_components
 from .dataset import SespFileError, cell_area, grid_of, pair_of
 from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
 from .grid import Grid
@@ -79,6 +80,8 @@ __all__ = [
     "allowed_orientations",
     "blocked_orientations",
     # topology
+    "certified_components",
+    "Certified",
     "components",
     "excluded_components",
     "state_components",

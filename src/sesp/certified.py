@@ -32,7 +32,8 @@ candidate, in a candidate without a part, or on a candidate's rim where it may
 be deeper than ε. Refinement stops at cells of side ε/4.
 
 Resolution of the search. A component is seeded by a part whose certified
-disk reaches ``rim`` (b) or a quarter of the component's certified depth,
+disk reaches ``rim`` (b; default 100 ε, at most half a base cell's half-diagonal) or a quarter of the
+component's certified depth,
 whichever is smaller; thinner parts beside a seeded one are searched only to
 that length, so a component shallower than ε + that rim lying within it of
 another is not separated from it (stated in :attr:`Certified.rim`).
@@ -58,12 +59,12 @@ from .shape import DEFAULT_SEGMENTS
 __all__ = ["RESOLUTION", "Certified", "CertifiedComponent", "certified_components"]
 
 RESOLUTION = 1e-5  # b: the default ε, the erosion length of the count
-RIM = 1e-3  # b: the largest length to which a component's rim is resolved beside another
+RIM_RATIO = 100  # rims beside other components are resolved to this many ε at most (1e-3 b at the default ε)
 BASE = 64  # cells along each side of the reach box before refinement
 MAX_STEPS = 64  # intervals of φ a depth certificate may use at first
 MOST_STEPS = 4096  # ... and at most, after retries at four times as many
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
-OUT, IN, UNDECIDED = 0, 1, 2
+OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
 
 
 @dataclass
@@ -106,20 +107,31 @@ class CertifiedComponent:
     area: float
     area_bound: float
     box: tuple
+    departure: float = 0.0  # b: the polylines' departure from the smooth curves
 
     @property
     def decided(self) -> bool:
         return self.parts == 1
 
+    def tag(self) -> str:
+        """A few words for a legend: "" for one decided component, else what is undecided; † where it is
+        shallower than the polylines' departure from the curves."""
+        said = {1: "", 0: "undecided: no certified part"}.get(self.parts, f"undecided: {self.parts} parts")
+        return said + (" †" if self.depth < self.departure else "")
+
     def why(self) -> str:
         if self.parts == 1:
-            return "one component"
-        if self.parts == 0:
-            return (
-                "no cell of it is certified deeper than the resolution: a body at most about the resolution deep, "
-                "or none"
+            said = "one component"
+        elif self.parts == 0:
+            said = "no cell of it is certified deeper than the resolution: at most about the resolution deep, or none"
+        else:
+            said = f"{self.parts} certified parts whose joins were not decided down to the floor"
+        if self.depth < self.departure:
+            said += (
+                f"; shallower than the polylines' departure from the curves ({self.departure:.1e} b): a feature of "
+                "the polylines, not resolved for the smooth particle (more segments resolve it)"
             )
-        return f"{self.parts} certified parts whose joins were not decided down to the floor"
+        return said
 
 
 @dataclass
@@ -138,6 +150,20 @@ class Certified:
     components: list = field(default_factory=list)
     evaluations: int = 0
     seconds: float = 0.0
+    cells: dict = field(default_factory=dict, repr=False)  # leaf arrays: x, y, side (b), status, component
+
+    def to_dict(self) -> dict:
+        """The result as plain numbers (lengths in b, areas in b²), for JSON."""
+        return {
+            "count": self.count, "count_low": self.low, "count_high": self.high,
+            "resolution": self.resolution, "rim": self.rim, "floor": self.floor,
+            "units": {"lengths": "b", "areas": "b^2"}, "cells": self.evaluations, "seconds": self.seconds,
+            "components": [
+                {"parts": c.parts, "depth": c.depth, "area": c.area, "area_bound": c.area_bound, "box": list(c.box),
+                 "status": c.why()}
+                for c in self.components
+            ],
+        }  # fmt: skip
 
     @property
     def count(self):
@@ -161,7 +187,7 @@ def certified_components(
     other=None,
     *,
     resolution: float = RESOLUTION,
-    rim: float = RIM,
+    rim: float | None = None,
     base: int = BASE,
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
@@ -181,6 +207,7 @@ def certified_components(
     """
     if not (resolution > 0 and math.isfinite(resolution)):
         raise ValueError(f"resolution must be a length > 0 (b), got {resolution!r}")
+    rim = RIM_RATIO * resolution if rim is None else rim
     if not (rim >= resolution and math.isfinite(rim)):
         raise ValueError(f"rim must be a length >= resolution ({resolution:g} b), got {rim!r}")
     if not (isinstance(base, int | np.integer) and 4 <= base <= 4096):
@@ -191,15 +218,19 @@ def certified_components(
 
 class _Engine:
     def __init__(self, pair, resolution, rim, base):
-        self.pair, self.eps, self.rim, self.base = pair, resolution, rim, base
+        self.pair, self.eps, self.base = pair, resolution, base
         self.floor = resolution / 4
         self.half = pair.reach
+        # a part is a seed of its own where its certified disk reaches the rim length: every part holding a base
+        # cell must be one, so the rim is at most half a base cell's half-diagonal
+        self.rim = max(resolution, min(rim, self.half * math.sqrt(2.0) / base / 2))
         v1, v2 = pair.vertices1, pair.vertices2
         self.spans2 = radial_spans(v2)
         self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
         self.curves = depth_kernels.prepared(v1, v2)
         self.evaluations = 0
         self.depth_cache = {}
+        self.t0 = time.perf_counter()
         self.best = {}  # component root -> the leaf where its depth was proved largest
 
     def evaluate(self, level, i, j, bound, steps=None, hint=None):
@@ -330,8 +361,9 @@ class _Engine:
         rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
         self.rim_used = float(rim[inn].min()) if inn.any() else self.rim
         on_rim = und & (hi >= self.eps + rim)
-        split = (between | empty | on_rim) & (L.h * math.sqrt(2.0) > self.floor)
-        split = cell_kernels.graded(split, und, L.level, ea, eb)
+        above_floor = L.h * math.sqrt(2.0) > self.floor
+        # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
+        split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
         retry = und & L.ran_out & (L.steps < MOST_STEPS)
         return split & ~retry, retry, seed, U
 
@@ -374,20 +406,19 @@ class _Engine:
         return lo
 
     def _deepest(self, L, k, depth):
-        """b: the depth proved at leaf k's centre, raised by a pattern search from it (16 directions, steps of the
-        cell's side halved ten times): the inscribed radius of the component, from below."""
-        x, y, step = L.x[k], L.y[k], L.h[k] * math.sqrt(2.0)
+        """b: the depth proved at leaf k's centre, raised by a pattern search from it (16 directions, steps from
+        half that depth, halved ten times, at most 8 moves each): the inscribed radius of the component, from
+        below."""
+        x, y, step = L.x[k], L.y[k], depth / 2
         turns = np.linspace(0.0, 2.0 * math.pi, 16, endpoint=False)
         for _ in range(10):
-            moved = True
-            while moved:
-                moved = False
-                for dx, dy in zip(step * np.cos(turns), step * np.sin(turns), strict=True):
-                    if self._cover(np.array([x + dx]), np.array([y + dy]), np.array([depth * 1.001]),
-                                   np.array([MOST_STEPS]))[0] == 1:  # fmt: skip
-                        x, y = x + dx, y + dy
-                        depth = self._proved_depth(x, y, depth)
-                        moved = True
+            for _ in range(8):
+                xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
+                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, MOST_STEPS)) == 1
+                if not deeper.any():
+                    break
+                x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]
+                depth = self._proved_depth(x, y, depth * 1.001)
             step /= 2
         return depth
 
@@ -434,15 +465,28 @@ class _Engine:
         depth = self._depths(L, status, U)
         for root, k in self.best.items():
             depth[root] = self._deepest(L, k, depth[root])
+        roots = np.unique(U[U >= 0])
         found = []
-        for r in np.unique(U[U >= 0]):
+        for r in roots:
             m = U == r
             parts = len(np.unique(seed[m & (seed >= 0)]))
             inn = m & (status == IN)
             box = (float(L.x[m].min()), float(L.x[m].max()), float(L.y[m].min()), float(L.y[m].max()))
-            found.append(CertifiedComponent(parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box))
-        found.sort(key=lambda c: -c.depth)
+            found.append(
+                CertifiedComponent(
+                    parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, self.pair.departure
+                )
+            )
+        order = np.argsort([-c.depth for c in found], kind="stable")
+        rank = np.full(len(L.x), -1)
+        rank[roots[order]] = np.arange(len(roots))
+        cells = {
+            "x": L.x, "y": L.y, "side": L.h * math.sqrt(2.0), "status": status,
+            "component": np.where(U >= 0, rank[np.maximum(U, 0)], -1),
+        }  # fmt: skip
+        found = [found[k] for k in order]
         low = sum(1 for c in found if c.parts)
         high = sum(max(c.parts, 1) for c in found)
         floor = 2.0 * self.half / (self.base * 2.0 ** int(L.level.max()))
-        return Certified(low, high, self.eps, getattr(self, "rim_used", self.rim), floor, found, self.evaluations)
+        rim = getattr(self, "rim_used", self.rim)
+        return Certified(low, high, self.eps, rim, floor, found, self.evaluations, cells=cells)

@@ -157,7 +157,7 @@ def _add_topology(sub):
         type=float,
         default=None,
         metavar="DEG",
-        help="one opening: the excluded set's components on an adaptive map, exact in φ (degrees)",
+        help="one opening (degrees): the excluded set's components, certified at --resolution and exact in φ",
     )
     p.add_argument(
         "--map",
@@ -165,7 +165,16 @@ def _add_topology(sub):
         help="count excluded components on adaptive maps exact in φ (sesp.maps) instead of the grid",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object (implies --map)")
-    p.add_argument("--base", type=int, default=128, help="adaptive map: cells of the first window (default 128)")
+    p.add_argument(
+        "--resolution",
+        type=float,
+        default=1e-5,
+        metavar="EPS",
+        help="--opening: count the components of the excluded set eroded by EPS, b (default 1e-5)",
+    )
+    p.add_argument(
+        "--base", type=int, default=None, help="cells along each side at first (default 64 with --opening, 128 maps)"
+    )
     p.add_argument("--floor", type=float, default=1e-7, help="adaptive map: smallest cell, b (default 1e-7)")
     p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
     p.add_argument(
@@ -191,8 +200,8 @@ def _add_topology(sub):
         type=Path,
         default=None,
         metavar="PNG",
-        help="adaptive maps: save a figure, the components in colour (--opening) or the counts and areas "
-        "over Ψ with the changes' brackets (--opening-range)",
+        help="save a figure: the components in colour (--opening) or, with --map, the counts and areas over Ψ "
+        "with the changes' brackets",
     )
     p.add_argument(
         "--quantity",
@@ -232,7 +241,9 @@ def _cmd_topology(args) -> int:
     if args.finer and (args.opening is not None or not (args.json or args.map)):
         raise ValueError("--finer refines a search on adaptive maps over Ψ: give it with --map or --json, "
                          "not with --opening")  # fmt: skip
-    if args.opening is not None or args.json or args.map:
+    if args.opening is not None:
+        return _topology_at_opening(args)
+    if args.json or args.map:
         return _topology_on_maps(args)
     if args.plot is not None:
         raise ValueError("--plot draws adaptive maps: give --opening DEG or --map with it")
@@ -280,33 +291,51 @@ TOLERANCE_DEG = math.degrees(0.02)
 MAP_TOLERANCE_DEG = math.degrees(0.005)
 
 
-def _topology_on_maps(args) -> int:
-    """``sesp topology --opening / --map / --json``: components of the excluded set on adaptive maps."""
+def _topology_at_opening(args) -> int:
+    """``sesp topology --opening DEG``: the certified excluded components at resolution ``--resolution``."""
     import json
 
-    from .maps import map_transitions, stored_map
-    from .pair import as_pair
-    from .report import format_map, format_map_transitions
+    from .certified import certified_components
+
+    if args.quantity != "excluded":
+        raise ValueError(f"--opening counts excluded components only, got --quantity {args.quantity}")
+    if args.maps_folder is not None or args.finer:
+        raise ValueError("--maps-folder and --finer apply to searches over Ψ (--map), not to --opening")
+    _check_figure_path(args.plot)
+    particle = _shape_from_args(args, args.opening)
+    _announce_compile()
+    found = certified_components(
+        particle, resolution=args.resolution, base=64 if args.base is None else args.base, segments=args.segments,
+        progress=not args.quiet,
+    )  # fmt: skip
+    if args.json:
+        print(json.dumps({"n": particle.n, "m": particle.m, "aspect": particle.aspect, "opening_deg": args.opening,
+                          "segments": args.segments, **found.to_dict()}))  # fmt: skip
+    else:
+        print(f"n = {particle.n:g}, m = {particle.m:g}, opening {args.opening:g} deg, {args.segments} segments")
+        print(found)
+        print(f"({found.evaluations} cells, {found.seconds:.1f} s; finest cell {found.floor:.1e} b)")
+    title = f"n = {particle.n:g}, opening {args.opening:g}°"
+    _save_map_plot(args.plot, "certified_map", found, particle=particle, title=title)
+    return 0
+
+
+def _topology_on_maps(args) -> int:
+    """``sesp topology --map / --json``: components of the excluded set on adaptive maps over Ψ."""
+    import json
+
+    from .maps import map_transitions
+    from .report import format_map_transitions
 
     if args.quantity != "excluded":
         raise ValueError(f"--opening, --map and --json count excluded components only, got --quantity {args.quantity}")
+    args.base = 128 if args.base is None else args.base
     if not 8 <= args.base <= 4096:
         raise ValueError(f"--base must be an integer in [8, 4096] (cells), got {args.base}")
     if not (math.isfinite(args.floor) and 1e-12 <= args.floor <= 1.0):
         raise ValueError(f"--floor must be in [1e-12, 1] b, got {args.floor}")
     _check_figure_path(args.plot)
     _announce_compile()
-    if args.opening is not None:
-        particle = _shape_from_args(args, args.opening)
-        pair = as_pair(particle, None, args.segments)
-        opening = math.radians(args.opening)
-        found = stored_map(args.maps_folder, opening, pair, base=args.base, floor=args.floor, progress=not args.quiet)
-        if args.json:
-            print(json.dumps(_map_json(found, args.opening)))
-        else:
-            print(format_map(found, particle))
-        _save_map_plot(args.plot, "component_map", found, particle=particle)
-        return 0
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
         raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
@@ -361,25 +390,9 @@ def _save_map_plot(path, kind, found, **kwargs):
 
     drawn = getattr(plot, kind)(found, **kwargs)
     fig = getattr(drawn, "figure", drawn)
-    if kind == "component_map":
-        fig.set_size_inches(7, 6)
     plot.save_figure(fig, path)
     plt.close(fig)
     log.info("figure saved: %s", path)
-
-
-def _map_json(found, degrees) -> dict:
-    return {
-        "opening_deg": degrees,
-        "count": found.count,
-        "components": [dict(c.as_dict(), unresolved=found.limit(c)) for c in found.components],
-        "floor": found.floor,
-        "departure": found.departure,
-        "base_cells": found.base_cells,
-        "finest_cell": found.finest,
-        "positions": found.positions,
-        "channel_disks": found.channels,
-    }
 
 
 def _changed(result, name, t) -> list:

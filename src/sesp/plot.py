@@ -411,7 +411,11 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
         label = "" if n is None else f"$n = {n:g}$"
         counts = sub.excluded_components.values
         top.step(deg, counts, where="mid", color=f"C{i}", label=label)
-        radius = sub.component_radius.values if "component_radius" in sub else np.zeros_like(sub.component_area)
+        # the radii in node spacings (files without radii: not resolved)
+        spacing = 2.0 * float(ds.attrs["half_width"]) / int(ds.attrs["nx"])
+        radius = (
+            sub.component_radius.values / spacing if "component_radius" in sub else np.zeros_like(sub.component_area)
+        )
         thinnest = np.min(np.where(np.isnan(radius), np.inf, radius), axis=1)  # files without radii: not resolved
         for j in np.flatnonzero(np.diff(counts)):
             resolved = min(thinnest[j], thinnest[j + 1]) >= RESOLVED_PEAK
@@ -566,6 +570,93 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
     if handles:
         ax.legend(handles=handles, fontsize=7, loc="upper right")
     return ax
+
+
+COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink")
+
+
+def _draw_cells(ax, found, window):
+    """The cells of a certified result inside ``window``: certified (solid) and undecided (pale), coloured by
+    component; cells narrower than a pixel keep an edge of their colour so they stay in sight."""
+    from matplotlib.collections import PolyCollection
+
+    c = found.cells
+    half = c["side"] / 2
+    corners = np.array([(-1, -1), (1, -1), (1, 1), (-1, 1)], dtype=float)
+    inside = (c["x"] + half >= window[0]) & (c["x"] - half <= window[1])
+    inside &= (c["y"] + half >= window[2]) & (c["y"] - half <= window[3]) & (c["component"] >= 0)
+    for status, alpha in ((2, 0.3), (1, 1.0)):
+        for k in range(len(found.components)):
+            pick = np.nonzero(inside & (c["status"] == status) & (c["component"] == k))[0]
+            if not len(pick):
+                continue
+            color = COMPONENT_COLORS[k % len(COMPONENT_COLORS)]
+            centres = np.stack([c["x"][pick], c["y"][pick]], axis=1)[:, None, :]
+            squares = centres + half[pick][:, None, None] * corners[None]
+            cells = PolyCollection(squares, facecolor=color, edgecolor=color, linewidth=0.4, alpha=alpha)
+            cells.set_rasterized(True)
+            ax.add_collection(cells)
+    ax.set_xlim(window[0], window[1])
+    ax.set_ylim(window[2], window[3])
+
+
+def _padded(box, share=0.15, each=False):
+    """``box`` (xmin, xmax, ymin, ymax) grown by ``share`` of its larger side, or of each side (``each``)."""
+    x0, x1, y0, y1 = box
+    px, py = (share * (x1 - x0), share * (y1 - y0)) if each else (share * max(x1 - x0, y1 - y0),) * 2
+    return (x0 - px, x1 + px, y0 - py, y1 + py)
+
+
+def certified_map(found, *, particle=None, title=None, fig=None):
+    """The certified excluded components (:func:`sesp.certified.certified_components`), each in its colour.
+
+    Left: the whole set, with the fixed particle in grey for scale. Right: one
+    panel per component (up to six), zoomed to its bounding box with y
+    stretched to fill the panel, so strips far thinner than they are long are
+    seen. Solid cells are certified deeper than the resolution; pale cells are
+    undecided (within the resolution of the rim). ``title`` names the particle
+    and opening.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
+
+    shown = found.components[:6]  # the deepest
+    if fig is None:
+        fig = plt.figure(figsize=(11, 4.8), layout="constrained")
+    grid = fig.add_gridspec(max(1, (len(shown) + 1) // 2), 3, width_ratios=(1.4, 1, 1))
+    main = fig.add_subplot(grid[:, 0])
+    if shown:
+        boxes = np.array([c.box for c in shown])
+        whole = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
+        _draw_cells(main, found, _padded(whole))
+    if particle is not None:
+        draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
+    main.set_aspect("equal")
+    main.set_xlabel("x (b)")
+    main.set_ylabel("y (b)")
+    handles = []
+    for k, comp in enumerate(shown):
+        color = COMPONENT_COLORS[k % len(COMPONENT_COLORS)]
+        label = f"{k + 1}: depth ≥ {comp.depth:.2g} b, area {comp.area:.2g} b$^2$"
+        if comp.tag():
+            label += f" ({comp.tag()})"
+        handles.append(Patch(color=color, label=label))
+        ax = fig.add_subplot(grid[k // 2, 1 + k % 2])
+        _draw_cells(ax, found, _padded(comp.box, 0.05, each=True))
+        ax.set_aspect("auto")
+        ax.set_title(f"component {k + 1}", fontsize=8, color=color)
+        ax.tick_params(labelsize=6)
+        ax.ticklabel_format(useOffset=False)
+    if any(c.depth < c.departure for c in shown):
+        handles.append(
+            Patch(color="none", label=f"† shallower than the polylines' departure ({shown[0].departure:.1e} b)")
+        )
+    if handles:  # below the whole view, so that it hides no component
+        main.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
+    head = f"{found.low}" if found.count is not None else f"{found.low}-{found.high} (undecided)"
+    what = f"{head} excluded component{'s' if found.high != 1 else ''} at resolution {found.resolution:.0e} b"
+    fig.suptitle(f"{title}: {what}" if title else what, fontsize=10)
+    return fig
 
 
 def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=None):

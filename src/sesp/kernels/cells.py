@@ -126,32 +126,6 @@ def disk_components(member, x, y, radius, half_diagonal, ea, eb):
 
 
 @njit(**JIT)
-def nearest_seed(seed, passable, ea, eb):
-    """Per leaf: the ``seed`` label (≥ 0) of the seed leaf fewest steps away through ``passable`` leaves; −1 if
-    none reaches it. Seeds keep their own label. (Breadth-first search from all seeds at once.)"""
-    n = seed.shape[0]
-    start, neighbour = _adjacency(n, ea, eb)
-    owner = seed.copy()
-    queue = np.empty(n, np.int64)
-    tail = 0
-    for a in range(n):
-        if seed[a] >= 0:
-            queue[tail] = a
-            tail += 1
-    head = 0
-    while head < tail:
-        a = queue[head]
-        head += 1
-        for e in range(start[a], start[a + 1]):
-            b = neighbour[e]
-            if passable[b] and owner[b] < 0:
-                owner[b] = owner[a]
-                queue[tail] = b
-                tail += 1
-    return owner
-
-
-@njit(**JIT)
 def _steps_from(source, passable, start, neighbour):
     """Steps from the ``source`` leaves to every leaf through ``passable`` leaves (−1: not reached)."""
     n = source.shape[0]
@@ -203,24 +177,6 @@ def corridors(seed, passable, ea, eb, slack):
         for a in range(n):
             if steps[s, a] >= 0 and steps[nearest, a] >= 0 and steps[s, a] + steps[nearest, a] <= length + slack:
                 out[a] = True
-    return out
-
-
-@njit(**JIT)
-def between(owner, undecided, ea, eb):
-    """Undecided leaves where two owners meet (a leaf next to one owned by another), and their undecided
-    neighbours."""
-    n = owner.shape[0]
-    met = np.zeros(n, np.bool_)
-    for e in range(ea.shape[0]):
-        a, b = ea[e], eb[e]
-        if owner[a] >= 0 and owner[b] >= 0 and owner[a] != owner[b]:
-            met[a] |= undecided[a]
-            met[b] |= undecided[b]
-    out = met.copy()
-    for e in range(ea.shape[0]):
-        if met[ea[e]] and undecided[eb[e]]:
-            out[eb[e]] = True
     return out
 
 

@@ -1,0 +1,37 @@
+"""Certified excluded components (sesp.certified) at the default resolution: counts, brackets, depths and times.
+
+Each case is one call of :func:`sesp.certified.certified_components` at its defaults (ε = 1e-5 b, rims to 100 ε, base
+64). The ASP rows have exact answers: two components (lens and body) for 0 < Ψ < π, the lens's inscribed radius
+1 − sin(Ψ/2), none above π. Run: ``python benchmarks/certified_components.py [n:degrees ...]``.
+"""
+
+import math
+import sys
+import time
+
+from _common import machine, table
+
+from sesp import SeSP
+from sesp.certified import certified_components
+
+CASES = [(2, 90), (2, 179), (2, 181), (4, 170), (4, 176), (4, 178), (8, 120)]
+
+
+def main(cases):
+    certified_components(SeSP(n=2, opening=math.radians(200)), resolution=1e-3)  # compile outside the timings
+    rows = []
+    for n, degrees in cases:
+        start = time.perf_counter()
+        found = certified_components(SeSP(n=n, opening=math.radians(degrees)))
+        seconds = time.perf_counter() - start
+        depths = " ".join(f"{c.depth:.2e}" for c in found.components)
+        exact = f"{1 - math.sin(math.radians(degrees) / 2):.5f}" if n == 2 and degrees < 180 else ""
+        rows.append((n, degrees, f"{found.low}-{found.high}", depths, exact, f"{found.evaluations}", f"{seconds:.1f}"))
+        print(found, flush=True)
+    print(machine())
+    table(rows, ["n", "Ψ (deg)", "count", "proved depths (b)", "exact lens", "cells", "s"])
+
+
+if __name__ == "__main__":
+    picked = [tuple(float(v) for v in a.split(":")) for a in sys.argv[1:]]
+    main(picked or CASES)
