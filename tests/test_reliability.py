@@ -1,5 +1,6 @@
 """Faults survived and inputs refused: kills, disk full, read-only folders, concurrent runners, files."""
 
+import fcntl
 import json
 import os
 import random
@@ -61,13 +62,20 @@ def _digest(path) -> str:
     return content_digest(path)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def uninterrupted(tmp_path_factory):
-    """The digest of KILLED_SWEEP run once without interruption: what every killed run must end with."""
-    folder = tmp_path_factory.mktemp("uninterrupted")
-    path = folder / "s.toml"
-    path.write_text(KILLED_SWEEP.format(out="killed"))  # relative to the sweep file: the same text as the test's
-    return _digest(run(path, workers=1, progress=False))
+    """The digest of KILLED_SWEEP run once without interruption: what every killed run must end with. Made
+    once for all test processes (the first to need it runs it under a lock; the others read it)."""
+    shared = tmp_path_factory.getbasetemp().parent  # common to the processes of one pytest-xdist run
+    with open(shared / "uninterrupted.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        known = shared / "uninterrupted.json"
+        if not known.exists():
+            folder = tmp_path_factory.mktemp("uninterrupted")
+            path = folder / "s.toml"
+            path.write_text(KILLED_SWEEP.format(out="killed"))  # relative to the sweep file: as in the test
+            known.write_text(json.dumps(_digest(run(path, workers=1, progress=False))))
+        return json.loads(known.read_text())
 
 
 def _sweep_process(path, workers=1, stderr=subprocess.DEVNULL, **kw):

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .common import JIT
+from .common import JIT, find_root
 
 _DIRECTIONS = np.array([(di, dj) for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj], dtype=np.int64)
 
@@ -62,16 +62,8 @@ def leaf_edges(level, ii, jj, base):
 
 
 @njit(**JIT)
-def _find(parent, a):
-    while parent[a] != a:
-        parent[a] = parent[parent[a]]
-        a = parent[a]
-    return a
-
-
-@njit(**JIT)
 def _union(parent, a, b):
-    ra, rb = _find(parent, a), _find(parent, b)
+    ra, rb = find_root(parent, a), find_root(parent, b)
     if ra != rb:
         parent[max(ra, rb)] = min(ra, rb)
 
@@ -81,7 +73,7 @@ def _labels(parent, member):
     out = np.full(member.shape[0], -1, np.int64)
     for a in range(member.shape[0]):
         if member[a]:
-            out[a] = _find(parent, a)
+            out[a] = find_root(parent, a)
     return out
 
 

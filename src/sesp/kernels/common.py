@@ -48,3 +48,25 @@ def point_segment_distance2(x, y, ax, ay, bx, by):
     dx = ax + lam * ex - x
     dy = ay + lam * ey - y
     return dx * dx + dy * dy
+
+
+@njit(**JIT)
+def sort_first(values, m):
+    """Sort values[:m] in place (insertion sort: for the few roots of one interval of φ)."""
+    for k in range(1, m):
+        value = values[k]
+        i = k - 1
+        while i >= 0 and values[i] > value:
+            values[i + 1] = values[i]
+            i -= 1
+        values[i + 1] = value
+
+
+@njit(**JIT)
+def find_root(parent, a):
+    """The root of ``a`` in the union-find forest ``parent``, halving the path on the way (the one union-find
+    of the code base: lattice labels and quadtree cells)."""
+    while parent[a] != a:
+        parent[a] = parent[parent[a]]
+        a = parent[a]
+    return a

@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, point_segment_distance2
+from .common import JIT, point_segment_distance2, sort_first
 from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, chunk_count, sinusoid_roots
 
 MAX_CROSSINGS = 256  # crossings of the two polylines at one φ at most; more and the certificate gives up
@@ -140,17 +140,6 @@ def _odd_runs(v1, boxes1, w, boxes2, cross, count):
 
 
 @njit(**JIT)
-def _sort(values, m):
-    for k in range(1, m):
-        value = values[k]
-        i = k - 1
-        while i >= 0 and values[i] > value:
-            values[i + 1] = values[i]
-            i -= 1
-        values[i + 1] = value
-
-
-@njit(**JIT)
 def _approach(ox, oy, ax, ay, bx, by, px, py, qx, qy, r, phi0, roots, ahead, behind):
     """Shrink (ahead, behind): how far φ may turn from ``phi0`` before the point o + a cos φ + b sin φ (on a
     circle: |a| = |b|, a ⊥ b) comes within ``r`` of segment p–q. (0, 0) if it is within r at ``phi0``."""
@@ -175,7 +164,7 @@ def _approach(ox, oy, ax, ay, bx, by, px, py, qx, qy, r, phi0, roots, ahead, beh
         if point_segment_distance2(ox + ax * c + bx * s, oy + ay * c + by * s, px, py, qx, qy) <= r * r:
             return 0.0, 0.0
         return ahead, behind
-    _sort(roots, m)
+    sort_first(roots, m)
     for k in range(m):
         lo = roots[k]
         hi = roots[k + 1] if k + 1 < m else roots[0] + TWO_PI

@@ -3,15 +3,7 @@
 import numpy as np
 from numba import njit
 
-from .common import JIT
-
-
-@njit(**JIT)
-def _find(parent, i):
-    while parent[i] != i:
-        parent[i] = parent[parent[i]]
-        i = parent[i]
-    return i
+from .common import JIT, find_root
 
 
 @njit(**JIT)
@@ -93,8 +85,8 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
             owner[node] = node
             continue
         for i in range(1, m):
-            best = _find(parent, touched[0])
-            r = _find(parent, touched[i])
+            best = find_root(parent, touched[0])
+            r = find_root(parent, touched[i])
             if r == best:
                 continue
             verdict, hi, lo = _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, dist[node],
@@ -112,7 +104,7 @@ def persistent_components(dist, order, shape, periodic, ratio, min_peak, labels,
             if merged_into[low] < 0:
                 kept[low] = True  # the lower part's own body stays what it was: apart from those it met
             parent[low] = top
-        parent[node] = _find(parent, touched[0])
+        parent[node] = find_root(parent, touched[0])
         owner[node] = owner[steepest]
     # final roots with a high enough peak are components too
     for i in range(n):
@@ -155,11 +147,11 @@ def _meeting(touched, m, parent, best, r, owner, kept, merged_into, peak, s, rat
     or 0 (apart), the widest verdict and its pair."""
     verdict, hi, lo = -1, -1, -1
     for i in range(m):
-        if _find(parent, touched[i]) != best:
+        if find_root(parent, touched[i]) != best:
             continue
         a = _body(owner[touched[i]], kept, merged_into)
         for j in range(m):
-            if _find(parent, touched[j]) != r:
+            if find_root(parent, touched[j]) != r:
                 continue
             b = _body(owner[touched[j]], kept, merged_into)
             up, down = (a, b) if peak[a] >= peak[b] else (b, a)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, point_segment_distance2
+from .common import JIT, point_segment_distance2, sort_first
 
 TWO_PI = 2.0 * math.pi
 
@@ -65,13 +65,7 @@ def _cuts(roots, m):
     pieces on which a pair's answer is constant."""
     roots[m] = 0.0
     roots[m + 1] = TWO_PI
-    for k in range(1, m + 2):
-        value = roots[k]
-        i = k - 1
-        while i >= 0 and roots[i] > value:
-            roots[i + 1] = roots[i]
-            i -= 1
-        roots[i + 1] = value
+    sort_first(roots, m + 2)
     return roots
 
 
