@@ -117,7 +117,7 @@ class CertifiedComponent:
         """A few words for a legend: "" for one decided component, else what is undecided; † where it is
         shallower than the polylines' departure from the curves."""
         said = {1: "", 0: "undecided: no certified part"}.get(self.parts, f"undecided: {self.parts} parts")
-        return said + (" †" if self.depth < self.departure else "")
+        return " ".join(w for w in (said, "†" if self.depth < self.departure else "") if w)
 
     def why(self) -> str:
         if self.parts == 1:

@@ -617,6 +617,7 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     undecided (within the resolution of the rim). ``title`` names the particle
     and opening.
     """
+    import matplotlib
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
@@ -646,13 +647,14 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         ax.set_aspect("auto")
         ax.set_title(f"component {k + 1}", fontsize=8, color=color)
         ax.tick_params(labelsize=6)
-        ax.ticklabel_format(useOffset=False)
+        ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))
+        ax.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))
     if any(c.depth < c.departure for c in shown):
         handles.append(
             Patch(color="none", label=f"† shallower than the polylines' departure ({shown[0].departure:.1e} b)")
         )
-    if handles:  # below the whole view, so that it hides no component
-        main.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14))
+    if handles:  # below the figure, so that it hides no component
+        fig.legend(handles=handles, fontsize=7, loc="outside lower left")
     head = f"{found.low}" if found.count is not None else f"{found.low}-{found.high} (undecided)"
     what = f"{head} excluded component{'s' if found.high != 1 else ''} at resolution {found.resolution:.0e} b"
     fig.suptitle(f"{title}: {what}" if title else what, fontsize=10)
