@@ -325,8 +325,11 @@ def excluded_area_curve(ds: xr.Dataset, *, ax=None):
             _band(ax, deg, value.sel(n=n).values, error, f"C{i}", n=n)
         ax.legend(frameon=False)
     else:
-        ax.plot(deg, value.values, "o-", ms=2.5)
+        label = f"$n = {float(ds.n):g}$" if "n" in ds.coords else None  # the particle the curve is of
+        ax.plot(deg, value.values, "o-", ms=2.5, label=label)
         _band(ax, deg, value.values, error, "C0")
+        if label:
+            ax.legend(frameon=False)
     ax.set(xlabel=PSI_LABEL, ylabel=NORMALIZED_LABEL, xlim=(0, 360), ylim=(0, None))
     ax.set_xticks(np.arange(0, 361, 90))
     return ax
@@ -432,9 +435,10 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
     top.set(ylabel="excluded components")
     top.yaxis.set_major_locator(MaxNLocator(integer=True))
     handles, _ = top.get_legend_handles_labels()
-    handles.append(Line2D([], [], color="0.3", lw=0.9, label="change, resolved"))
+    shade = "C0" if len(series) == 1 else "0.3"  # with several n, a change is drawn in its n's colour
+    handles.append(Line2D([], [], color=shade, lw=0.9, label="change, resolved"))
     if limited_drawn:
-        handles.append(Line2D([], [], color="0.3", ls=":", lw=0.6,
+        handles.append(Line2D([], [], color=shade, ls=":", lw=0.6,
                               label=f"change, grid-limited (a component < {RESOLVED_PEAK:g} nodes thin)"))  # fmt: skip
     top.legend(handles=handles, frameon=False, fontsize=8)
     bottom.set(xlabel=PSI_LABEL, ylabel=r"component area ($b^2$)", yscale="symlog")
