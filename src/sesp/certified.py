@@ -224,6 +224,7 @@ class _Engine:
         # a part is a seed of its own where its certified disk reaches the rim length: every part holding a base
         # cell must be one, so the rim is at most half a base cell's half-diagonal
         self.rim = max(resolution, min(rim, self.half * math.sqrt(2.0) / base / 2))
+        self.rim_used = self.rim  # b: the smallest rim any component was resolved to (a quarter of its depth)
         v1, v2 = pair.vertices1, pair.vertices2
         self.spans2 = radial_spans(v2)
         self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
@@ -488,5 +489,5 @@ class _Engine:
         low = sum(1 for c in found if c.parts)
         high = sum(max(c.parts, 1) for c in found)
         floor = 2.0 * self.half / (self.base * 2.0 ** int(L.level.max()))
-        rim = getattr(self, "rim_used", self.rim)
+        rim = self.rim_used
         return Certified(low, high, self.eps, rim, floor, found, self.evaluations, cells=cells)

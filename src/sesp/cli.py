@@ -295,7 +295,7 @@ def _topology_at_opening(args) -> int:
     """``sesp topology --opening DEG``: the certified excluded components at resolution ``--resolution``."""
     import json
 
-    from .certified import certified_components
+    from .certified import BASE, certified_components
 
     if args.quantity != "excluded":
         raise ValueError(f"--opening counts excluded components only, got --quantity {args.quantity}")
@@ -305,7 +305,7 @@ def _topology_at_opening(args) -> int:
     particle = _shape_from_args(args, args.opening)
     _announce_compile()
     found = certified_components(
-        particle, resolution=args.resolution, base=64 if args.base is None else args.base, segments=args.segments,
+        particle, resolution=args.resolution, base=BASE if args.base is None else args.base, segments=args.segments,
         progress=not args.quiet,
     )  # fmt: skip
     if args.json:
@@ -324,12 +324,12 @@ def _topology_on_maps(args) -> int:
     """``sesp topology --map / --json``: components of the excluded set on adaptive maps over Ψ."""
     import json
 
-    from .maps import map_transitions
+    from .maps import BASE_CELLS, map_transitions
     from .report import format_map_transitions
 
     if args.quantity != "excluded":
         raise ValueError(f"--opening, --map and --json count excluded components only, got --quantity {args.quantity}")
-    args.base = 128 if args.base is None else args.base
+    args.base = BASE_CELLS if args.base is None else args.base
     if not 8 <= args.base <= 4096:
         raise ValueError(f"--base must be an integer in [8, 4096] (cells), got {args.base}")
     if not (math.isfinite(args.floor) and 1e-12 <= args.floor <= 1.0):

@@ -76,24 +76,6 @@ def format_result(result: TopologyResult, family=None) -> str:
     return "\n".join(lines)
 
 
-def format_map(found, particle=None) -> str:
-    """A plain-text report of an adaptive map (:class:`sesp.maps.ExcludedMap`): one line per component."""
-    lines = [f"particle: {particle}"] if particle is not None else []
-    lines.append(
-        f"excluded components on an adaptive map, exact in phi: {found.count}"
-        f" (base {found.base_cells} cells, finest cell {found.finest:.2g} b, floor {found.floor:.2g} b,"
-        f" {found.positions} positions; the polylines depart from the curves by {found.departure:.2g} b)"
-    )
-    lines.append(
-        f"{'#':>3} {'area b^2':>12} {'inscribed b':>12}  {'x from':>9} {'x to':>9} {'y from':>9} {'y to':>9}"
-        "  unresolved"
-    )
-    for k, c in enumerate(found.components, start=1):
-        box = " ".join(f"{v:9.4f}" for v in c.bbox)
-        lines.append(f"{k:3d} {c.area:12.5g} {c.inscribed_radius:12.4g}  {box}  {found.limit(c) or '-'}")
-    return "\n".join(lines)
-
-
 def format_map_transitions(result, family=None) -> str:
     """A plain-text report of :func:`sesp.maps.map_transitions`: Ψ intervals with counts, then the brackets."""
     lines = [f"family: {family}"] if family is not None else []
