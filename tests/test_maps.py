@@ -417,7 +417,7 @@ def test_a_body_that_reaches_a_part_at_a_smaller_body_is_judged_against_that_bod
         (128, 172.5, 1e-3),
         pytest.param(97, 173.75, 3e-4, marks=pytest.mark.full),
         (128, 173.75, 3e-4),
-        (97, 173.125, 3e-4),
+        pytest.param(97, 173.125, 3e-4, marks=pytest.mark.full),
     ],
 )
 def test_the_n4_arrowhead_is_one_body_on_even_and_odd_base_grids(base, degrees, floor):

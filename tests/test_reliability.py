@@ -21,7 +21,7 @@ from cases import FULL, SMALL, content_digest
 from cases import point_files as _point_files
 
 # Reduced counts by default; SESP_FULL_TESTS=1 runs the full ones.
-KILLS = 100 if FULL else 3  # SIGKILLs per case of the repeated-kill test
+KILLS = 100 if FULL else 3  # SIGKILLs per case of the repeated-kill test (at most: fewer if the sweep ends first)
 FLIPS = 1000 if FULL else 60  # damaged copies of a file in the bit-flip test
 
 # A sesp scan with one bit of its header flipped: the netCDF/HDF5 library aborts (double free) when this file
@@ -47,16 +47,6 @@ FAULT_SWEEP = (
 )
 
 
-# The repeated-kill test needs a sweep long enough that its kills (3, or 100 at full strength) land before it
-# finishes, at sleeps of 0.5-4 s per worker, on a machine faster than CI's: about 25 s on two cores, 3 times
-# FAULT_SWEEP, whose time is mostly the writing of its small point files.
-KILLED_SWEEP = (
-    FAULT_SWEEP.replace("nx = 48", "nx = 128")
-    .replace("nphi = 48", "nphi = 128")
-    .replace("segments = 48", "segments = 256")
-)
-
-
 def _digest(path) -> str:
     """The file's results, bit for bit (provenance attributes aside)."""
     return content_digest(path)
@@ -64,8 +54,8 @@ def _digest(path) -> str:
 
 @pytest.fixture(scope="session")
 def uninterrupted(tmp_path_factory):
-    """The digest of KILLED_SWEEP run once without interruption: what every killed run must end with. Made
-    once for all test processes (the first to need it runs it under a lock; the others read it)."""
+    """The digest of FAULT_SWEEP run once without interruption: what every killed or shared run must end
+    with. Made once for all test processes (the first to need it runs it under a lock; the others read it)."""
     shared = tmp_path_factory.getbasetemp().parent  # common to the processes of one pytest-xdist run
     with open(shared / "uninterrupted.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -73,7 +63,7 @@ def uninterrupted(tmp_path_factory):
         if not known.exists():
             folder = tmp_path_factory.mktemp("uninterrupted")
             path = folder / "s.toml"
-            path.write_text(KILLED_SWEEP.format(out="killed"))  # relative to the sweep file: as in the test
+            path.write_text(FAULT_SWEEP.format(out="killed"))  # relative to the sweep file: as in the test
             known.write_text(json.dumps(_digest(run(path, workers=1, progress=False))))
         return json.loads(known.read_text())
 
@@ -108,23 +98,41 @@ def _wait_until_gone(sid: int, timeout: float = 30.0) -> list[int]:
     return left
 
 
+def _wait_for_kill_moment(proc, folder, rng, timeout: float = 120.0) -> None:
+    """Wait for a random moment in a sweep's life: half the time 0.3-2 s after its start (start-up, lock,
+    manifest, first point), otherwise once one more point file is on disk than at the start, then up to one
+    point's time more (so the kill lands while a point is computed or written). The second kind makes
+    progress, so a sweep of many small points is killed many times however fast the machine."""
+    if rng.random() < 0.5:
+        time.sleep(rng.uniform(0.3, 2.0))
+        return
+    before = len(_point_files(folder)) if folder.exists() else 0
+    deadline = time.monotonic() + timeout
+    while proc.poll() is None and time.monotonic() < deadline:
+        if folder.exists() and len(_point_files(folder)) > before:
+            time.sleep(rng.uniform(0.0, 0.15))
+            return
+        time.sleep(0.01)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("workers, kill", [(1, "group"), (2, "runner")])
 def test_sweep_survives_repeated_sigkill(tmp_path, workers, kill, uninterrupted):
-    """SIGKILL a real sweep at random moments, KILLS times; the end result equals an uninterrupted run.
+    """SIGKILL a real sweep at random moments, KILLS times (or until it ends; at least 3 times); the end result
+    equals an uninterrupted run.
 
     With two workers only the runner's own PID is killed: its workers see it gone, remove the file they were
     writing and exit, and the resource tracker follows, so no process of the session and no point temporary
     is left (the runner's own, of the manifest or the collected file, are removed by the next run).
     """
     path = tmp_path / "s.toml"
-    path.write_text(KILLED_SWEEP.format(out="killed"))
+    path.write_text(FAULT_SWEEP.format(out="killed"))
     folder = tmp_path / "killed"
-    rng = random.Random(7)
+    rng = random.Random(7 + workers)
     kills = 0
     while kills < KILLS:
         proc = _sweep_process(path, workers)
-        time.sleep(rng.uniform(0.5, 4.0) * workers)
+        _wait_for_kill_moment(proc, folder, rng)
         if proc.poll() is not None:
             break  # finished before this kill
         if kill == "group":
@@ -175,17 +183,16 @@ def test_save_into_unwritable_place_is_a_clear_error(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_two_runners_on_one_folder(tmp_path):
+def test_two_runners_on_one_folder(tmp_path, uninterrupted):
     path = tmp_path / "s.toml"
-    path.write_text(FAULT_SWEEP.format(out=tmp_path / "shared"))
+    path.write_text(FAULT_SWEEP.format(out="killed"))  # as the uninterrupted run: the same file text
     first, second = _sweep_process(path), _sweep_process(path)
     assert first.wait(timeout=600) == 0 and second.wait(timeout=600) == 0
-    files = _point_files(tmp_path / "shared")
+    files = _point_files(tmp_path / "killed")
     assert len(files) == len({p.name for p in files}) == 2 * 28
     for p in files:
         load(p)
-    fresh = run(path, output=tmp_path / "fresh", workers=1, progress=False)
-    assert _digest(tmp_path / "shared" / "small.nc") == _digest(fresh)
+    assert _digest(tmp_path / "killed" / "small.nc") == uninterrupted
 
 
 def test_loading_never_evaluates_attributes(tmp_path):
@@ -444,3 +451,32 @@ def test_a_rerun_removes_the_temporaries_a_killed_runner_owned(tmp_path):
     point.unlink()  # so that the point is computed again, and its stale temporary found
     run(path, workers=1, progress=False)
     assert not list((tmp_path / "out").glob(".*.tmp"))
+
+
+@pytest.mark.parametrize(
+    "child, verdict",
+    [
+        ("import os, signal; os.kill(os.getpid(), signal.SIGSEGV)", "crashed the netCDF/HDF5 library (SIGSEGV)"),
+        ("import sys; sys.exit(3)", "ended the reading process (exit status 3)"),
+        ("import time; time.sleep(30)", "did not finish within 0.5 s"),
+    ],
+)
+def test_a_reading_process_that_dies_or_hangs_is_a_verdict_on_its_file(tmp_path, monkeypatch, child, verdict):
+    """The probe reads in a child process; whatever ends it (a signal, an exit, a hang) is reported for the
+    file it was reading, and a fresh child reads the next one."""
+    from sesp import fileprobe
+
+    start = fileprobe._start
+    children = iter([[sys.executable, "-c", child], None])
+
+    def started():
+        command = next(children)
+        if command is None:
+            return start()
+        return subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+
+    monkeypatch.setattr(fileprobe, "_start", started)
+    good = tmp_path / "good.nc"
+    save(scan(SeSP(n=2, opening=1.0), Grid(8, nphi=4), segments=8), good)
+    verdicts = fileprobe.probe([tmp_path / "bad.nc", good], timeout=0.5)
+    assert verdict in verdicts[tmp_path / "bad.nc"] and verdicts[good] is None
