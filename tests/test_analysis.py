@@ -11,8 +11,8 @@ from sesp import (
     SeSP,
     analyze,
     closed_excluded_area,
-    excluded_area,
     excluded_components,
+    lattice_excluded_area,
     scan,
     scanline_excluded_area,
     smooth_excluded_area,
@@ -36,7 +36,7 @@ def test_analysis_equals_scan_summary_and_components():
     xr.testing.assert_identical(
         ds.lattice_excluded_area.drop_attrs(), summary.excluded_area.drop_attrs().rename("lattice_excluded_area")
     )
-    assert float(ds.lattice_excluded_area.mean()) == pytest.approx(excluded_area(field), rel=1e-12)
+    assert float(ds.lattice_excluded_area.mean()) == pytest.approx(lattice_excluded_area(field), rel=1e-12)
     assert float(ds.closed_excluded_area) == closed_excluded_area(summary)
     assert int(ds.excluded_components) == excluded_components(summary).count
     assert ds.attrs["allowed_sha256"] == field.attrs["allowed_sha256"]

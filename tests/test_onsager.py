@@ -12,6 +12,7 @@ from sesp.onsager import (
     entangled_neighbours,
     instabilities,
     mixture_second_virial,
+    onsager_variables,
     orientational_spectrum,
     second_virial,
     virial_matrix,
@@ -65,12 +66,12 @@ def test_needles_scanned_give_the_onsager_nematic_bifurcation():
     assert float(second_virial(area)) * 2 == pytest.approx(2 * L**2 / math.pi, rel=1e-3)
     found = instabilities(area)
     assert int(found.leading_order) == 2
-    rho = float(found.density.sel(k=2))
+    rho = float(found.density.sel(order=2))
     assert rho * L**2 == pytest.approx(3 * math.pi / 2, rel=1e-3)
-    assert float(found.reduced_density.sel(k=2)) == pytest.approx(3.0, rel=1e-3)
+    assert float(found.reduced_density.sel(order=2)) == pytest.approx(3.0, rel=1e-3)
     exact_a2 = -4 * L**2 / (3 * math.pi)
-    assert abs(float(found.a.sel(k=2)) - exact_a2) <= float(found.a_error.sel(k=2))  # the bar covers it
-    assert np.isnan(found.density.sel(k=1))  # a₁ = 0: no polar instability
+    assert abs(float(found.a.sel(order=2)) - exact_a2) <= float(found.a_error.sel(order=2))  # the bar covers it
+    assert np.isnan(found.density.sel(order=1))  # a₁ = 0: no polar instability
 
 
 def test_rings_are_never_unstable():
@@ -150,3 +151,23 @@ def test_thick_needle_spectrum_in_closed_form():
     for k, value in exact.items():
         a, err = float(spectrum.a.sel(k=k)), float(spectrum.a_error.sel(k=k))
         assert abs(a - value) <= err and abs(a / value - 1) < 1e-3, k
+
+
+def test_onsager_takes_what_excluded_area_returns_and_carries_its_error_bars():
+    """B₂ of two needles of length 2 is ⟨4 |sin φ|⟩ / 2 = 4/π, with half of ⟨A_ex⟩'s bar; the instabilities
+    run over ``order`` as in sweeps; the per-φ bars are carried as bounds."""
+    from sesp import excluded_area, scanline_excluded_area
+
+    needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
+    area = excluded_area(needle)
+    b2 = second_virial(area)
+    assert b2.name == "second_virial_coefficient" and float(b2) == pytest.approx(4 / math.pi, rel=1e-5)
+    assert b2.attrs["error"] == pytest.approx(float(area.mean_excluded_area_error) / 2)
+    on_64 = 2 * np.abs(np.sin(2 * np.pi * np.arange(64) / 64)).mean()  # the mean over those 64 orientations
+    assert float(second_virial(scanline_excluded_area(needle, nphi=64))) == pytest.approx(on_64, rel=1e-6)
+    found = instabilities(area)
+    assert found.density.dims == ("order",) and int(found.leading_order) == 2
+    bounds = orientational_spectrum(area.excluded_area, 4, error=area.excluded_area_error, correlated=True)
+    xr.testing.assert_identical(orientational_spectrum(area, 4), bounds)
+    variables = onsager_variables(area)
+    assert float(variables["second_virial_coefficient_error"]) == pytest.approx(b2.attrs["error"])

@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from sesp import Grid, Polyline, SeSP, excluded_area, scan
+from sesp import Grid, Polyline, SeSP, lattice_excluded_area, scan
 from sesp.kernels.overlap import crossings_at_states
 
 import naive
@@ -119,7 +119,7 @@ def test_mirror_symmetric_particles_exclude_the_same_at_plus_and_minus_phi(parti
     allowed = ds.allowed.values
     mirrored = allowed[(-np.arange(nphi)) % nphi, ::-1, :]  # φ -> −φ, y -> −y
     np.testing.assert_array_equal(allowed, mirrored)
-    area = excluded_area(ds, by="phi").values
+    area = lattice_excluded_area(ds, by="phi").values
     np.testing.assert_array_equal(area, area[(-np.arange(nphi)) % nphi])
 
 
@@ -129,8 +129,8 @@ def test_excluded_area_does_not_depend_on_the_reference_point(curve, cx, cy):
     """Moving a particle's centre shifts its excluded region at fixed φ: same area."""
     moved = Polyline(curve.vertices + [cx, cy])
     grid = Grid(96, nphi=4)
-    a = excluded_area(scan(curve, grid), by="phi").values
-    b = excluded_area(scan(moved, grid), by="phi").values
+    a = lattice_excluded_area(scan(curve, grid), by="phi").values
+    b = lattice_excluded_area(scan(moved, grid), by="phi").values
     cell = (2 * (2 * moved.max_radius) * 96 / 94 / 96) ** 2
     scale = max(a.max(), 1.0)
     np.testing.assert_allclose(a, b, atol=0.05 * scale + 200 * cell)

@@ -14,12 +14,12 @@ import xarray as xr
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
-from .measures import SCANLINE_ROWS, closed_pair_excluded_area, scanline_excluded_area, smooth_excluded_area
+from .measures import SCANLINE_ROWS, closed_pair_excluded_area, excluded_area
 from .onsager import onsager_variables
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
-from .shape import DEFAULT_SEGMENTS, SeSP
+from .shape import DEFAULT_SEGMENTS
 from .topology import excluded_components
 from .units import AREA, LENGTH
 
@@ -84,12 +84,10 @@ def analyze(
         What to return, any of:
 
         * ``"excluded_area"``: always returned: ``excluded_area(phi)`` (b²) at the
-          grid's orientations by scanlines, exact along lines, the best estimate
-          sesp has: of the smooth curves for two SeSPs
-          (:func:`sesp.smooth_excluded_area` at 512 line spacings; ``segments`` a
-          multiple of 4), of
-          the polygons otherwise (:func:`sesp.scanline_excluded_area`;
-          attribute ``excluded_area_of``), with its error bar
+          grid's orientations from :func:`sesp.excluded_area` at the pair's
+          segments and 512 line spacings, not refined (of the smooth curves
+          for two SeSPs with ``segments`` a multiple of 4, else of the
+          polygons: attribute ``excluded_area_of``), with its error bar
           ``excluded_area_error(phi)``, ``normalized_excluded_area(phi)``, the
           orientation means ``mean_excluded_area`` (± ``mean_excluded_area_error``)
           and ``mean_normalized_excluded_area``, and ``closed_excluded_area``
@@ -139,12 +137,8 @@ def analyze(
     ds = _lattice_pass(pair, grid, keep, engine, progress) if needs_lattice(keep) else _no_pass(pair, grid)
     _add_excluded_area(ds, pair, grid)
     _add_normalized(ds, pair, grid)
-    correlated = ds.excluded_area_error  # bounds, not independent errors
-    for name, value in onsager_variables(ds.excluded_area, error=correlated, correlated=True).items():
+    for name, value in onsager_variables(ds).items():  # the scanlines' error bars, carried through as bounds
         ds[name] = value
-    ds["second_virial_coefficient_error"] = (ds.mean_excluded_area_error / 2).assign_attrs(
-        **AREA, long_name="error bar of B2"
-    )
     if "entangled_area" in ds:
         ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
             **AREA, long_name="orientation-averaged entangled area A_ent"
@@ -178,33 +172,13 @@ def _no_pass(pair, grid) -> xr.Dataset:
 
 
 def _add_excluded_area(ds, pair, grid):
-    """A_ex(φ) by scanlines at the grid's orientations, with error bars, in place: of the smooth curves for
-    two SeSPs (extrapolated in the number of segments, which must then be a multiple of 4, at least 16), of
-    the polygons otherwise; the attribute ``excluded_area_of`` says which."""
-    smooth = isinstance(pair.particle, SeSP) and isinstance(pair.other, SeSP)
-    smooth = smooth and pair.segments % 4 == 0 and pair.segments >= 16
-    if smooth:
-        other = None if pair.other is pair.particle else pair.other
-        lines = smooth_excluded_area(
-            pair.particle, other=other, segments=pair.segments, nphi=grid.nphi, rows=SCANLINE_ROWS
-        )
-    else:
-        lines = scanline_excluded_area(pair, nphi=grid.nphi)
+    """A_ex(φ) at the grid's orientations with error bars, in place: :func:`sesp.excluded_area` at the pair's
+    segments and SCANLINE_ROWS line spacings, unrefined (a sweep's settings are its own)."""
+    lines = excluded_area(pair, segments=pair.segments, nphi=grid.nphi, rows=SCANLINE_ROWS, rtol=None)
     for name in ("excluded_area", "excluded_area_error", "mean_excluded_area", "mean_excluded_area_error"):
         ds[name] = lines[name].assign_coords(phi=ds.phi) if "phi" in lines[name].dims else lines[name]
-    ds.attrs["excluded_area_of"] = _curves_measured(pair, smooth)
+    ds.attrs["excluded_area_of"] = lines.attrs["excluded_area_of"]
     ds.attrs["scanline_rows"] = lines.attrs["rows"]
-
-
-def _curves_measured(pair, smooth) -> str:
-    """What the stored A_ex is of: the smooth curves, or the polygons (SeSPs) and polylines as given."""
-    if smooth:
-        return "smooth curves"
-    sesps = [isinstance(p, SeSP) for p in (pair.particle, pair.other)]
-    polygons = f"polygons of {pair.segments} segments"
-    if all(sesps):
-        return polygons
-    return "polylines as given" + (f", the SeSP as {polygons}" if any(sesps) else "")
 
 
 def _add_normalized(ds, pair, grid):

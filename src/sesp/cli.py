@@ -31,12 +31,13 @@ def _announce_compile():
         print("sesp: compiling numba kernels (first run only, about a minute)...", file=sys.stderr)
 
 
-def _add_shape_args(p: argparse.ArgumentParser):
+def _add_shape_args(p: argparse.ArgumentParser, segments: int | None = 256):
     p.add_argument("--n", type=float, default=2.0, help="degree along x (default 2)")
     p.add_argument("--m", type=float, default=None, help="degree along y (default: n)")
     p.add_argument("--aspect", type=float, default=1.0, help="aspect ratio A = a/b (default 1)")
     p.add_argument("--thickness", type=float, default=0.0, help="particle thickness D in b (default 0: thin)")
-    p.add_argument("--segments", type=int, default=256, help="polyline segments N (default 256)")
+    refined = "refined from 256" if segments is None else f"{segments}"
+    p.add_argument("--segments", type=int, default=segments, help=f"polyline segments N (default {refined})")
 
 
 def _add_scan(sub):
@@ -66,64 +67,114 @@ def _shape_from_args(args, opening_deg: float):
 
 
 def _cmd_scan(args) -> int:
-    from .analysis import analyze
+    from .field import scan
     from .grid import Grid
     from .io import save
 
     particle = _shape_from_args(args, args.opening)
     grid = Grid(args.nx, args.ny, args.nphi)
-    keep = ("allowed", "excluded_area") + ("crossings",) * args.crossings
     _announce_compile()
-    ds = analyze(particle, grid, segments=args.segments, keep=keep, engine=args.engine, progress=not args.quiet)
+    ds = scan(
+        particle, grid, segments=args.segments, engine=args.engine, crossings=args.crossings, progress=not args.quiet
+    )
     save(ds, args.output)
     if not args.quiet:
-        print(f"wrote {args.output}")
+        print(f"wrote {args.output} (the field; `sesp area` gives A_ex with its error bar)")
     return 0
 
 
 def _add_area(sub):
-    p = sub.add_parser("area", help="excluded area A_ex(φ) and its mean, with error bars, by scanlines")
-    _add_shape_args(p)
-    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
-    p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
-    p.add_argument(
-        "--rows",
-        type=int,
-        default=None,
-        help="line spacings across the excluded set, a multiple of 8 (default 512; 2048 with --smooth)",
+    p = sub.add_parser(
+        "area", help="A_ex(φ) and ⟨A_ex⟩ with error bars, refined to --rtol; B₂ and the first isotropic instability"
     )
+    _add_shape_args(p, segments=None)
+    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
     p.add_argument(
-        "--smooth", action="store_true", help="the smooth curve's A_ex: extrapolate over N, N/2, N/4 segments"
+        "--vertices",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a polyline of your own instead of a SeSP: a text file of x y rows (b), its centre at 0 0",
+    )
+    p.add_argument("--rtol", type=float, default=1e-5, help="relative error bar of ⟨A_ex⟩ to reach (default 1e-5)")
+    p.add_argument("--nphi", type=int, default=None, help="orientations (default: refined from 128)")
+    p.add_argument(
+        "--rows", type=int, default=None, help="line spacings, a multiple of 8 (default: refined from 2048, or 512)"
     )
     p.add_argument("--json", action="store_true", help="print one JSON object (per-φ values included)")
     p.set_defaults(func=_cmd_area)
 
 
+def _particle_for_area(args):
+    """The SeSP of the shape arguments, or the polyline of ``--vertices`` (with ``--thickness``)."""
+    if args.vertices is None:
+        return _shape_from_args(args, args.opening)
+    import numpy as np
+
+    from .shape import Polyline
+
+    try:
+        vertices = np.loadtxt(args.vertices, ndmin=2)
+    except (OSError, ValueError) as err:
+        raise ValueError(f"--vertices: cannot read {args.vertices} as rows of x y (b): {err}") from None
+    return Polyline(vertices, thickness=args.thickness)
+
+
 def _cmd_area(args) -> int:
     import json
 
-    from .measures import scanline_excluded_area, smooth_excluded_area
+    from .measures import excluded_area
+    from .onsager import ORDER_NAMES, onsager_variables
 
-    particle = _shape_from_args(args, args.opening)
-    how = smooth_excluded_area if args.smooth else scanline_excluded_area
+    particle = _particle_for_area(args)
     _announce_compile()
-    rows = {} if args.rows is None else {"rows": args.rows}
-    ds = how(particle, segments=args.segments, nphi=args.nphi, **rows)
+    ds = excluded_area(
+        particle, rtol=args.rtol, segments=args.segments, nphi=args.nphi, rows=args.rows, progress=not args.quiet
+    )
+    found = onsager_variables(ds)
+    attrs = ds.attrs
     mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+    leading = int(found.get("leading_instability", 0))
+    density = float(found["instability_density"].sel(order=leading)) if leading else math.nan
+    shape = {"vertices": str(args.vertices), "thickness": args.thickness} if args.vertices is not None else {
+        "n": particle.n, "m": particle.m, "aspect": particle.aspect, "thickness": particle.thickness,
+        "opening_deg": args.opening,
+    }  # fmt: skip
     if args.json:
         result = {
-            "opening_deg": args.opening,
-            "smooth": args.smooth,
+            **shape,
+            **{k: attrs[k] for k in ("excluded_area_of", "segments", "nphi", "rows", "rtol")},
+            "converged": bool(attrs["converged"]),
+            "units": {"lengths": "b", "areas": "b^2", "densities": "b^-2", "angles": "rad"},
             "mean_excluded_area": mean,
             "mean_excluded_area_error": error,
+            "second_virial_coefficient": float(found["second_virial_coefficient"]),
+            "second_virial_coefficient_error": float(found["second_virial_coefficient_error"]),
+            "leading_instability": leading,
+            "leading_instability_density": None if not leading else density,
             "phi": ds.phi.values.tolist(),
             "excluded_area": ds.excluded_area.values.tolist(),
             "excluded_area_error": ds.excluded_area_error.values.tolist(),
         }
         print(json.dumps(result))
         return 0
-    what = "smooth curve" if args.smooth else f"polygon of {args.segments} segments"
-    print(f"A_ex = {mean:.7f} ± {error:.1e} b² (mean over {args.nphi} orientations; {what}; scanlines)")
+    if args.vertices is None:
+        what = f"n = {particle.n:g}, m = {particle.m:g}, aspect {particle.aspect:g}, opening {args.opening:g} deg"
+    else:
+        what = f"the polyline of {args.vertices}"
+    what += f", thickness {args.thickness:g} b" if args.thickness else ""
+    print(f"{what}: A_ex of the {attrs['excluded_area_of']}")
+    print(f"  ({attrs['nphi']} orientations, {attrs['rows']} line spacings; rtol {args.rtol:g}"
+          f" {'met' if attrs['converged'] else 'NOT met'})")  # fmt: skip
+    print(f"<A_ex> = {mean:.8g} ± {error:.1e} b^2")
+    b2, b2_error = float(found["second_virial_coefficient"]), float(found["second_virial_coefficient_error"])
+    print(f"B2     = {b2:.8g} ± {b2_error:.1e} b^2")
+    if leading:
+        reduced = density * mean
+        print(f"first isotropic instability: {ORDER_NAMES.get(leading, f'k = {leading}')} (k = {leading}) at"
+              f" rho* = {density:.6g} b^-2 (rho* <A_ex> = {reduced:.4g})")  # fmt: skip
+    else:
+        print("first isotropic instability: none (no Fourier coefficient a_k significantly negative)")
     return 0
 
 
@@ -402,16 +453,19 @@ def _changed(result, name, t) -> list:
     return [int(k) for k in result.component.values[result[name].values[t]]]
 
 
+DEGREE_DIGITS = 9  # decimals of the degrees in JSON output: far below any bracket, above radians' rounding
+
+
 def _transitions_json(result) -> dict:
     from .report import count_runs
 
-    degrees = result["opening_degrees"].values
+    degrees = result["opening_degrees"].values.round(DEGREE_DIGITS)  # 210, not 210.00000000000003 from radians
     runs = count_runs(list(range(len(degrees))), result["count"].values)
     intervals = [{"from_deg": float(degrees[a]), "to_deg": float(degrees[b]), "count": c} for a, b, c, _ in runs]
     transitions = [
         {
-            "low_deg": float(result.low_degrees[t]),
-            "high_deg": float(result.high_degrees[t]),
+            "low_deg": round(float(result.low_degrees[t]), DEGREE_DIGITS),
+            "high_deg": round(float(result.high_degrees[t]), DEGREE_DIGITS),
             "count_low": int(result.count_low[t]),
             "count_high": int(result.count_high[t]),
             "off_axis_low": int(result.off_axis_low[t]),
@@ -606,11 +660,25 @@ def build_parser() -> argparse.ArgumentParser:
 COMMANDS = [_add_scan, _add_area, _add_info, _add_topology, _add_sweep, _add_collect, _add_plot, _add_figures]
 
 
+def _warning_handler() -> logging.Handler:
+    class OneLine(logging.Formatter):
+        def format(self, record):
+            message = record.getMessage().split(": ", 1)[-1].split("\n", 1)[0]  # "file:line: Category: text"
+            return f"sesp: warning: {message.removeprefix('UserWarning: ')}"
+
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(OneLine())
+    return handler
+
+
 def main(argv=None) -> int:
     """Entry point of the ``sesp`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO if not args.quiet else logging.WARNING, format="%(message)s")
+    logging.captureWarnings(True)  # a warning is one line "sesp: warning: ...", not a source listing
+    logging.getLogger("py.warnings").handlers = [_warning_handler()]
+    logging.getLogger("py.warnings").propagate = False
     try:
         return args.func(args)
     except USER_ERRORS as err:

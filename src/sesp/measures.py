@@ -8,6 +8,8 @@ A_ex = (1/2π) ∫ A_ex(φ) dφ = dx · dy · (excluded states) / nphi, in b².
 from __future__ import annotations
 
 import math
+import sys
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -23,7 +25,8 @@ from .units import AREA, LENGTH
 
 __all__ = [
     "excluded_area",
-    "excluded_area_error",
+    "lattice_excluded_area",
+    "lattice_excluded_area_error",
     "shifted_excluded_area",
     "scanline_excluded_area",
     "smooth_excluded_area",
@@ -45,8 +48,12 @@ def _excluded_states(allowed, axis=None):
     return total - np.count_nonzero(allowed, axis=axis)
 
 
-def excluded_area(ds: xr.Dataset, *, by: str | None = None):
-    """Excluded area of a scan (or of a summary, which holds A_ex(φ)), in b².
+def lattice_excluded_area(ds: xr.Dataset, *, by: str | None = None):
+    """The excluded area a stored field counts: the excluded states of its lattice times their cell, b².
+
+    This is the field's own measure, with the lattice's bias (mostly shared by all orientations, of order
+    a cell times the excluded set's perimeter); the best estimate of A_ex, with error bars, is
+    :func:`excluded_area`, which takes the particles.
 
     Parameters
     ----------
@@ -60,15 +67,15 @@ def excluded_area(ds: xr.Dataset, *, by: str | None = None):
     Examples
     --------
     >>> import numpy as np
-    >>> from sesp import Grid, SeSP, excluded_area, scan
+    >>> from sesp import Grid, SeSP, lattice_excluded_area, scan
     >>> ds = scan(SeSP(n=2), Grid(128, nphi=4), segments=128)
-    >>> round(excluded_area(ds) / (4 * np.pi), 2)
+    >>> round(lattice_excluded_area(ds) / (4 * np.pi), 2)
     1.0
     """
     check_choice("by", by, (None, "phi"))
     if "allowed" not in ds:
         if "excluded_area" not in ds or ds.excluded_area.dims != ("phi",):
-            raise ValueError("excluded_area needs a scan (allowed field) or a summary with excluded_area(phi)")
+            raise ValueError("lattice_excluded_area needs a scan (allowed field) or a summary with excluded_area(phi)")
         return float(ds.excluded_area.mean()) if by is None else ds.excluded_area
     if by is None:
         return cell_area(ds) * float(_excluded_states(ds.allowed.values)) / ds.sizes["phi"]
@@ -82,8 +89,8 @@ def excluded_area(ds: xr.Dataset, *, by: str | None = None):
     )
 
 
-def excluded_area_error(ds: xr.Dataset) -> float:
-    """Indication of the quadrature error of :func:`excluded_area`, in b².
+def lattice_excluded_area_error(ds: xr.Dataset) -> float:
+    """Indication of the quadrature error of :func:`lattice_excluded_area`, in b².
 
     |A_ex(h) − A_ex(2h)|: the difference from a second scan of the same box
     at half the resolution in x, y and φ, rebuilt from the attributes. The
@@ -96,7 +103,7 @@ def excluded_area_error(ds: xr.Dataset) -> float:
     """
     grid = grid_of(ds)
     coarse_grid = Grid(max(grid.nx // 2, 3), max(grid.ny // 2, 3), max(grid.nphi // 2, 1), half_width=grid.half_width)
-    return abs(excluded_area(ds) - excluded_area(scan(pair_of(ds), coarse_grid)))
+    return abs(lattice_excluded_area(ds) - lattice_excluded_area(scan(pair_of(ds), coarse_grid)))
 
 
 # R2 low-discrepancy sequence: steps 1/g and 1/g² with g the plastic number
@@ -257,7 +264,8 @@ def scanline_excluded_area(
     mean_error = abs(levels[0].mean() - levels[1].mean()) + abs(levels[1].mean() - levels[2].mean())
     attrs = {**base_attrs("sesp.summary"), **pair_attrs(pair), "nphi": nphi, "rows": rows}
     attrs["sesp_format"] = "sesp.scanline_excluded_area"
-    return _area_dataset(phi, area, error, mean_error + _phi_quadrature_error(area), attrs)
+    attrs.update(mean_error_lines=mean_error, mean_error_phi=_phi_quadrature_error(area))
+    return _area_dataset(phi, area, error, mean_error + attrs["mean_error_phi"], attrs)
 
 
 def _unmirrored(computed, nphi: int) -> np.ndarray:
@@ -310,9 +318,145 @@ def smooth_excluded_area(
     areas = [ds.excluded_area.values for ds in levels]
     fine, coarse = ((4 * a - b) / 3 for a, b in zip(areas, areas[1:], strict=False))
     error = levels[0].excluded_area_error.values + np.abs(fine - coarse)
-    mean_error = float(levels[0].mean_excluded_area_error) + abs(fine.mean() - coarse.mean())
     attrs = {**levels[0].attrs, "sesp_format": "sesp.smooth_excluded_area"}
+    attrs["mean_error_polygon"] = abs(fine.mean() - coarse.mean())
+    mean_error = float(levels[0].mean_excluded_area_error) + attrs["mean_error_polygon"]
     return _area_dataset(levels[0].phi.values, fine, error, mean_error, attrs)
+
+
+# sesp's A_ex: the relative error of ⟨A_ex⟩ it refines to by default, where it starts, and how far it goes
+RTOL = 1e-5
+START = {"segments": 256, "nphi": 128}
+LARGEST = {"segments": 4096, "nphi": 4096, "rows": 1 << 15}
+# which setting to double for each part of the error budget (the attributes mean_error_*)
+_REFINES = {"mean_error_lines": "rows", "mean_error_phi": "nphi", "mean_error_polygon": "segments"}
+
+
+def _smooth_possible(pair: Pair, segments: int) -> bool:
+    """Whether the smooth curves' A_ex can be had: two SeSPs, and N, N/2, N/4 segments."""
+    sesps = isinstance(pair.particle, SeSP) and isinstance(pair.other, SeSP)
+    return sesps and segments % 4 == 0 and segments >= 16
+
+
+def _measured(pair: Pair, segments: int, nphi: int, rows: int | None) -> xr.Dataset:
+    """One evaluation of the best estimate: the smooth curves' A_ex(φ) where possible, else the polygons'."""
+    if _smooth_possible(pair, segments):
+        other = None if pair.other is pair.particle else pair.other
+        rows = SMOOTH_ROWS if rows is None else rows
+        ds = smooth_excluded_area(pair.particle, other=other, segments=segments, nphi=nphi, rows=rows)
+        ds.attrs["excluded_area_of"] = "smooth curves"
+        return ds
+    ds = scanline_excluded_area(pair, nphi=nphi, rows=SCANLINE_ROWS if rows is None else rows)
+    sesps = [isinstance(p, SeSP) for p in (pair.particle, pair.other)]
+    polygons = f"polygons of {pair.segments} segments"
+    of = polygons if all(sesps) else "polylines as given" + (f", the SeSP as {polygons}" if any(sesps) else "")
+    ds.attrs["excluded_area_of"] = of
+    return ds
+
+
+def _next_setting(ds: xr.Dataset, settings: dict, free: set, target: float) -> str | None:
+    """The setting to double: the free one (not yet at its largest) whose part of the error budget is largest;
+    None when the parts of the others already exceed ``target`` (b²), so no refinement can meet it."""
+    parts = {name: ds.attrs.get(part, 0.0) for part, name in _REFINES.items()}
+    growing = [name for name in free if parts[name] > 0 and settings[name] * 2 <= LARGEST[name]]
+    held = sum(size for name, size in parts.items() if name not in growing)
+    if not growing or held > target:
+        return None
+    return max(growing, key=parts.get)
+
+
+def excluded_area(
+    particle,
+    other=None,
+    *,
+    rtol: float | None = RTOL,
+    segments: int | None = None,
+    nphi: int | None = None,
+    rows: int | None = None,
+    progress: bool = False,
+) -> xr.Dataset:
+    """A_ex(φ) and its orientation mean ⟨A_ex⟩ with error bars, b²: sesp's answer to "what is A_ex?".
+
+    The best estimate sesp has: of the smooth curves for two SeSPs (:func:`smooth_excluded_area`: scanlines
+    exact along each line, extrapolated across lines and in the number of segments), of the polygons
+    otherwise (:func:`scanline_excluded_area`). The settings left unset are refined, each step doubling
+    the one whose part of the error budget is largest (``rows`` for the lines, ``nphi`` for the mean over
+    φ, ``segments`` for the polygon), until the error bar of ⟨A_ex⟩ is at most ``rtol`` · ⟨A_ex⟩; settings
+    that are given stay as given. Where that cannot be reached (a given setting's part dominates, or the
+    largest settings are reached) the result says so (attribute ``converged`` 0) and a warning tells how
+    far it got. The integral of a stored field is the field's own measure,
+    :func:`lattice_excluded_area`.
+
+    Parameters
+    ----------
+    particle, other
+        As for :func:`sesp.scan` (``particle`` may be a :class:`~sesp.Pair`, whose polylines are then
+        measured as given).
+    rtol : float or None
+        Relative error bar of ⟨A_ex⟩ to reach (default 1e-5); None: one evaluation at the settings.
+    segments : int, optional
+        Polyline segments N of SeSPs (a multiple of 4 for the smooth curves), refined from 256 if unset.
+    nphi : int, optional
+        Orientations φ = 2πk/nphi, refined from 128 if unset.
+    rows : int, optional
+        Scanline spacings (a multiple of 8), refined from 2048 (smooth curves) or 512 (polygons).
+    progress : bool
+        Print each refinement step (settings, ⟨A_ex⟩ and its error bar) to stderr.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``excluded_area(phi)`` and ``excluded_area_error(phi)``, ``mean_excluded_area`` and
+        ``mean_excluded_area_error`` (b²); attributes ``excluded_area_of``, the settings used
+        (``segments``, ``nphi``, ``rows``), ``rtol``, ``converged`` and the error budget
+        ``mean_error_lines``, ``mean_error_phi`` (and ``mean_error_polygon`` for smooth curves), b².
+        :mod:`sesp.onsager` takes it as it is.
+
+    Examples
+    --------
+    >>> import math
+    >>> from sesp import SeSP, excluded_area
+    >>> ds = excluded_area(SeSP(n=2, opening=0.0), rtol=1e-4)  # the closed circle: 4π
+    >>> abs(float(ds.mean_excluded_area) / (4 * math.pi) - 1) < 1e-4
+    True
+    """
+    if isinstance(particle, xr.Dataset | xr.DataArray):
+        raise TypeError("excluded_area takes particles; the count of a stored field is lattice_excluded_area(ds)")
+    if rtol is not None and not (math.isfinite(rtol) and 0 < rtol < 1):
+        raise ValueError(f"rtol must be in (0, 1) (relative error of <A_ex>) or None, got {rtol!r}")
+    free = {name for name, value in (("segments", segments), ("nphi", nphi), ("rows", rows)) if value is None}
+    settings = {
+        "segments": check_count("segments", segments, 3, LARGEST["segments"]) if segments else START["segments"],
+        "nphi": check_count("nphi", nphi, 1, LARGEST["nphi"]) if nphi else START["nphi"],
+        "rows": rows,
+    }
+    if isinstance(particle, Pair):
+        free.discard("segments")
+        settings["segments"] = particle.segments
+    while True:
+        pair = as_pair(particle, other, settings["segments"])
+        ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"])
+        settings["rows"] = int(ds.attrs["rows"])
+        mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+        if progress:
+            print(f"excluded_area: {settings} <A_ex> = {mean:.9g} ± {error:.2g} b^2", file=sys.stderr)
+        if rtol is None or error <= rtol * abs(mean):
+            converged = True
+            break
+        step = _next_setting(ds, settings, free, rtol * abs(mean))
+        if step is None:
+            converged = False
+            parts = ", ".join(f"{name} {ds.attrs.get(part, 0.0):.1g}" for part, name in _REFINES.items())
+            warnings.warn(
+                f"excluded_area: rtol {rtol:g} not met: <A_ex> = {mean:.9g} ± {error:.2g} b^2 (relative "
+                f"{error / abs(mean):.2g}) at {settings}; the error's parts by setting: {parts} b^2, and the "
+                f"settings given stay as given (largest refined: {LARGEST})",
+                stacklevel=2,
+            )
+            break
+        settings[step] *= 2
+    ds.attrs.update(segments=settings["segments"], rtol=np.nan if rtol is None else rtol, converged=int(converged))
+    return ds
 
 
 def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> float:
@@ -342,7 +486,7 @@ def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
     if pair.identical and pair.particle.is_convex_closed:
         curve, contact = closed.curve1, pair.contact
         return convex_excluded_area(curve) + 2 * curve.length * contact + math.pi * contact**2
-    return excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
+    return lattice_excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
 
 
 def closed_excluded_area(ds: xr.Dataset) -> float:
@@ -360,7 +504,7 @@ def normalized_excluded_area(ds: xr.Dataset, *, by: str | None = None, reference
     closed value is π D² = 4π up to the polygon's error.
     """
     reference = closed_excluded_area(ds) if reference is None else float(reference)
-    value = excluded_area(ds, by=by)
+    value = lattice_excluded_area(ds, by=by)
     if by is None:
         return value / reference
     out = value / reference

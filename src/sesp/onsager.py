@@ -1,9 +1,12 @@
 """From excluded area to phase behaviour: virial coefficients, orientational spectrum, Onsager instabilities.
 
-Everything here works on A_ex(φ) as a DataArray over a uniform ``phi`` grid
-φ_j = 2πj / nphi (from :func:`sesp.scan` via ``excluded_area(ds, by="phi")``,
-:func:`sesp.shifted_excluded_area`, :func:`sesp.analyze`, or a collected
-sweep, whose other dimensions are carried along).
+Everything here works on A_ex(φ) over a uniform ``phi`` grid φ_j = 2πj / nphi:
+what :func:`sesp.excluded_area` returns (a Dataset, whose error bars
+``excluded_area_error(phi)`` and ``mean_excluded_area_error`` are then carried
+through as bounds), the same variables of :func:`sesp.analyze` or a collected
+sweep (whose other dimensions are carried along), or a bare DataArray
+(:func:`sesp.lattice_excluded_area` with ``by="phi"``,
+:func:`sesp.shifted_excluded_area`).
 
 Orientational spectrum
 ----------------------
@@ -72,6 +75,22 @@ SIGNIFICANCE = 3.0  # a_k counts as negative below −SIGNIFICANCE error bars
 ORDER_NAMES = {1: "polar", 2: "nematic", 3: "triatic", 4: "tetratic", 6: "hexatic"}
 
 
+def _area_and_error(excluded_area, error, correlated):
+    """A_ex(φ) as a DataArray, with the per-φ error to use: a Dataset's own bars ``excluded_area_error``
+    (bounds, so correlated) unless an error is given."""
+    if not isinstance(excluded_area, xr.Dataset):
+        return excluded_area, error, correlated
+    if "excluded_area" not in excluded_area:
+        raise ValueError("a Dataset of A_ex needs the variable excluded_area(phi) (sesp.excluded_area returns one)")
+    if isinstance(error, str) and error == "auto" and "excluded_area_error" in excluded_area:
+        return excluded_area.excluded_area, excluded_area.excluded_area_error, True
+    return excluded_area.excluded_area, error, correlated
+
+
+def _area(excluded_area) -> xr.DataArray:
+    return _area_and_error(excluded_area, 0.0, False)[0]
+
+
 def _check_phi(excluded_area: xr.DataArray) -> np.ndarray:
     if not isinstance(excluded_area, xr.DataArray) or "phi" not in excluded_area.dims:
         raise ValueError("excluded_area must be a DataArray with a 'phi' dimension (A_ex(φ) in b²)")
@@ -108,14 +127,16 @@ def orientational_spectrum(
 
     Parameters
     ----------
-    excluded_area : xarray.DataArray
-        A_ex(φ) in b² over a uniform ``phi`` grid (other dimensions are kept).
+    excluded_area : xarray.DataArray or xarray.Dataset
+        A_ex(φ) in b² over a uniform ``phi`` grid (other dimensions are kept),
+        or a Dataset with ``excluded_area(phi)`` (see the module notes).
     order : int
         Largest k, 0 <= order < nphi / 2.
     error : "auto" or xarray.DataArray or float
         Standard error of each A_ex(φ) value (b²), independent between φ;
-        "auto" (default) estimates it from the data (:func:`noise_estimate`);
-        0 counts the φ-quadrature error alone.
+        "auto" (default): a Dataset's ``excluded_area_error`` as bounds, else
+        estimated from the data (:func:`noise_estimate`); 0 counts the
+        φ-quadrature error alone.
     correlated : bool
         Take ``error`` as bounds that may be correlated across φ: propagated as
         (2/nphi) Σ |error · trig(kφ)| instead of in quadrature.
@@ -136,6 +157,7 @@ def orientational_spectrum(
     >>> round(float(orientational_spectrum(needles, 2).a.sel(k=2)) / (-16 / (3 * np.pi)), 3)
     1.0
     """
+    excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     phi = _check_phi(excluded_area)
     if isinstance(order, bool) or int(order) != order or not 0 <= order < len(phi) / 2:
         raise ValueError(f"order must be an integer in [0, nphi/2) = [0, {len(phi) / 2:g}), got {order!r}")
@@ -167,10 +189,19 @@ def orientational_spectrum(
     return ds
 
 
-def second_virial(excluded_area: xr.DataArray) -> xr.DataArray:
-    """B₂ = ⟨A_ex⟩ / 2 = a₀/4, in b² (the orientation average of A_ex(φ) over the uniform φ grid)."""
-    _check_phi(excluded_area)
-    return (excluded_area.mean("phi") / 2).assign_attrs(**AREA, long_name="second virial coefficient B2")
+def second_virial(excluded_area) -> xr.DataArray:
+    """B₂ = ⟨A_ex⟩ / 2 = a₀/4, in b² (the orientation average of A_ex(φ) over the uniform φ grid).
+
+    From a Dataset with ``mean_excluded_area_error`` (:func:`sesp.excluded_area`) the result carries its
+    error bar, half of ⟨A_ex⟩'s, as the attribute ``error`` (b²; the largest over any other dimensions).
+    """
+    area = _area(excluded_area)
+    _check_phi(area)
+    b2 = (area.mean("phi") / 2).rename("second_virial_coefficient")
+    b2 = b2.assign_attrs(**AREA, long_name="second virial coefficient B2")
+    if isinstance(excluded_area, xr.Dataset) and "mean_excluded_area_error" in excluded_area:
+        b2.attrs["error"] = float(excluded_area.mean_excluded_area_error.max()) / 2
+    return b2
 
 
 def virial_matrix(aa: xr.DataArray, ab: xr.DataArray, bb: xr.DataArray) -> xr.DataArray:
@@ -194,15 +225,16 @@ def mixture_second_virial(matrix: xr.DataArray, fraction_a: float) -> xr.DataArr
     return total.assign_attrs(**AREA, long_name=f"mixture B2 at mole fraction {x:g} of A")
 
 
-def instabilities(
-    excluded_area: xr.DataArray, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False
-) -> xr.Dataset:
+def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False) -> xr.Dataset:
     """Where the isotropic state becomes unstable to k-fold order: ρ*_k = −2 / a_k for a_k < 0.
+
+    ``excluded_area``, ``error`` and ``correlated`` as for :func:`orientational_spectrum`.
 
     Returns
     -------
     xarray.Dataset
-        Over ``k`` = ``orders``: ``a`` and ``a_error`` (b²), ``density`` ρ*_k
+        Over ``order`` = ``orders`` (the k of each instability, as sweeps store it): ``a`` and ``a_error`` (b²),
+        ``density`` ρ*_k
         (b⁻², NaN where a_k >= 0: never unstable), ``density_error``,
         ``reduced_density`` ρ*_k ⟨A_ex⟩ (dimensionless) and its error; and
         ``leading_order``, the k with the smallest ρ*_k (0 if none).
@@ -210,7 +242,10 @@ def instabilities(
     orders = sorted({int(k) for k in orders})
     if not orders or orders[0] < 1:
         raise ValueError(f"orders must be integers >= 1, got {orders}")
+    excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     spectrum = orientational_spectrum(excluded_area, max(orders), error=error, correlated=correlated).sel(k=orders)
+    spectrum = spectrum.rename(k="order")
+    spectrum["order"].attrs.update(long_name="order k of the isotropic instability", units="1")
     a, a_error = spectrum.a, spectrum.a_error
     a0 = abs(excluded_area.mean("phi")) * 2
     unstable = (a < 0) & (-a > SIGNIFICANCE * a_error.fillna(0)) & (-a > 1e-9 * a0)
@@ -230,8 +265,8 @@ def instabilities(
         }
     )
     filled = density.fillna(np.inf)
-    leading = filled.k[filled.argmin("k")].where(np.isfinite(filled.min("k")), 0)
-    ds["leading_order"] = leading.drop_vars("k", errors="ignore").assign_attrs(
+    leading = filled.order[filled.argmin("order")].where(np.isfinite(filled.min("order")), 0)
+    ds["leading_order"] = leading.drop_vars("order", errors="ignore").assign_attrs(
         long_name="k of the order that goes unstable first (0: none)", units="1"
     )
     return ds
@@ -250,8 +285,9 @@ def entangled_neighbours(entangled_area: xr.DataArray, density: float) -> xr.Dat
     return (rho * entangled_area.mean("phi")).assign_attrs(units="1", long_name="mean entangled neighbours z")
 
 
-def contact_density(excluded_area: xr.DataArray, contacts: float) -> xr.DataArray:
+def contact_density(excluded_area, contacts: float) -> xr.DataArray:
     """The density (b⁻²) at which the random-contact estimate ρ ⟨A_ex⟩ reaches ``contacts`` neighbours."""
+    excluded_area = _area(excluded_area)
     _check_phi(excluded_area)
     z = float(contacts)
     if not (math.isfinite(z) and z > 0):
@@ -259,26 +295,31 @@ def contact_density(excluded_area: xr.DataArray, contacts: float) -> xr.DataArra
     return (z / excluded_area.mean("phi")).assign_attrs(**DENSITY, long_name=f"density of {z:g} mean contacts")
 
 
-def onsager_variables(
-    excluded_area: xr.DataArray, order: int = 8, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False
-) -> dict:
+def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, error="auto", correlated=False) -> dict:
     """B₂, the spectrum and the instabilities of A_ex(φ) as named variables (what sweeps store).
 
     ``spectrum_cos``/``spectrum_sin`` (and ``_error``) run over ``k`` = 0..order;
     the instabilities over ``order`` = ``orders`` (those below nphi/2). With
-    fewer than 3 orientations only B₂ is returned. ``error`` and ``correlated``
-    as for :func:`orientational_spectrum`.
+    fewer than 3 orientations only B₂ is returned. ``excluded_area``, ``error``
+    and ``correlated`` as for :func:`orientational_spectrum`; from a Dataset with
+    ``mean_excluded_area_error``, B₂'s error bar (half of it) is
+    ``second_virial_coefficient_error``.
     """
-    b2 = (excluded_area.mean("phi") / 2).assign_attrs(**AREA, long_name="second virial coefficient B2")
+    b2 = {"second_virial_coefficient": second_virial(excluded_area).drop_attrs()}
+    b2["second_virial_coefficient"].attrs.update(**AREA, long_name="second virial coefficient B2")
+    if isinstance(excluded_area, xr.Dataset) and "mean_excluded_area_error" in excluded_area:
+        b2["second_virial_coefficient_error"] = (excluded_area.mean_excluded_area_error / 2).assign_attrs(
+            **AREA, long_name="error bar of B2"
+        )
+    excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     order = min(order, (excluded_area.sizes["phi"] - 1) // 2)
     orders = [k for k in orders if k <= order]
     if not orders:  # too few orientations for a spectrum
-        return {"second_virial_coefficient": b2}
+        return b2
     spectrum = orientational_spectrum(excluded_area, order, error=error, correlated=correlated)
-    unstable = instabilities(excluded_area, orders, error=error, correlated=correlated).rename(k="order")
-    unstable["order"].attrs.update(long_name="order k of the isotropic instability", units="1")
+    unstable = instabilities(excluded_area, orders, error=error, correlated=correlated)
     return {
-        "second_virial_coefficient": b2,
+        **b2,
         "spectrum_cos": spectrum.a,
         "spectrum_cos_error": spectrum.a_error,
         "spectrum_sin": spectrum.b,

@@ -125,6 +125,20 @@ def _particle_of(ds, particle):
     return None
 
 
+def shape_label(particle) -> str:
+    """A figure title naming the particle: "n = 2, Ψ = 90°" (m and A when they differ from n and 1, D when thick),
+    or "polyline of K vertices"."""
+    if particle is None:
+        return ""
+    if isinstance(particle, SeSP):
+        label = f"n = {particle.n:g}" + (f", m = {particle.m:g}" if particle.m != particle.n else "")
+        label += f", A = {particle.aspect:g}" if particle.aspect != 1 else ""
+        label += f", Ψ = {math.degrees(particle.opening):.4g}°"
+    else:
+        label = f"polyline of {len(particle.vertices)} vertices"
+    return label + (f", D = {particle.thickness:g} b" if particle.thickness else "")
+
+
 def _orientation_colors(fraction, mean):
     """RGB image: hue = mean allowed orientation (twilight), fading to white as fewer are allowed."""
     import matplotlib
@@ -201,6 +215,7 @@ def allowed_map(
     if shape is not None:
         draw_particle(shape, ax, color="k", lw=2)
     ax.set(xlim=extent[:2], ylim=extent[2:], xlabel=r"$x$ ($b$)", ylabel=r"$y$ ($b$)", aspect="equal")
+    ax.set_title(shape_label(shape), fontsize=9)
     if colorbar:
         key = ax.inset_axes([1.06, 0.55, 0.3, 0.3] if style == "raster" else [1.06, 0.5, 0.05, 0.45])
         if style == "raster":
@@ -570,7 +585,9 @@ def component_map(found, *, ax=None, particle=None, window=None, aspect="equal")
     ax.set_xlabel("x (b)")
     ax.set_ylabel("y (b)")
     plural = "s" if found.count != 1 else ""
-    ax.set_title(f"{found.count} excluded component{plural} (finest cell {found.finest:.1g} b)")
+    shape = particle if particle is not None else getattr(found.pair, "particle", None)
+    named = f"{shape_label(shape)}: " if shape is not None else ""
+    ax.set_title(f"{named}{found.count} excluded component{plural} (finest cell {found.finest:.1g} b)", fontsize=9)
     if handles:
         ax.legend(handles=handles, fontsize=7, loc="upper right")
     return ax

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .dataset import format_of, grid_of
-from .measures import closed_excluded_area, excluded_area
+from .measures import closed_excluded_area, lattice_excluded_area
 from .topology import RESOLVED_PEAK, TopologyResult
 
 __all__ = ["format_result", "describe"]
@@ -55,14 +55,14 @@ def format_result(result: TopologyResult, family=None) -> str:
         )
     for res, transitions in result.transitions.items():
         where = f"{res[0]} axis nodes, exact in phi" if axis else f"grid nx={res[0]} ny={res[1]} nphi={res[2]}"
-        lines.append(f"transitions on {where} (radians; degrees):")
+        lines.append(f"transitions on {where} (degrees; radians):")
         if not transitions:
             lines.append("  none")
         for t in transitions:
             lines.append(
-                f"  * {t.count_low} -> {t.count_high} at Psi in [{t.low:.4f}, {t.high:.4f}] rad"
-                f" = {t.opening:.4f} +- {0.5 * (t.high - t.low):.4f}"
-                f"  ({math.degrees(t.low):.2f} to {math.degrees(t.high):.2f} deg)"
+                f"  * {t.count_low} -> {t.count_high} at Psi in [{math.degrees(t.low):.2f}, {math.degrees(t.high):.2f}]"
+                f" deg = {math.degrees(t.opening):.2f} +- {math.degrees(0.5 * (t.high - t.low)):.2f}"
+                f"  ({t.low:.4f} to {t.high:.4f} rad)"
                 + (
                     ""
                     if t.resolved
@@ -125,7 +125,7 @@ def _particle_line(attrs, prefix) -> str:
 
 def _area_line(ds) -> str:
     """A_ex with its error bar and what it is of (scanlines), or the lattice's count of a bare field."""
-    area = excluded_area(ds)
+    area = lattice_excluded_area(ds)
     if "mean_excluded_area_error" in ds:
         area = float(ds.mean_excluded_area)
         text = f"A_ex     : {area:.8g} ± {float(ds.mean_excluded_area_error):.2g} b^2"
