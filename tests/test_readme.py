@@ -1,16 +1,24 @@
-"""Every ```python block of README.md runs, in order, in one namespace (grids made small)."""
+"""Every ```python block of README.md and docs/*.md runs, in order, one namespace per page (grids made small);
+every command line is accepted by the CLI, the README's quick start runs, and every script or sweep file
+named exists."""
 
+import json
 import re
+import shlex
 import shutil
 
 import matplotlib
 import pytest
 
+from sesp.cli import build_parser, main
 from sesp.sweep import run
 
 from cases import ROOT
 
 README = ROOT / "README.md"
+PAGES = [README, *sorted((ROOT / "docs").glob("*.md"))]
+# certified counts at a coarser resolution than the default: the same engine, in a second instead of ten
+COARSE = 1e-3
 
 
 def python_blocks(text: str) -> list:
@@ -18,34 +26,11 @@ def python_blocks(text: str) -> list:
 
 
 def small(code: str) -> str:
-    """The same code on small grids: every Grid(n...) gets 32 cells and at most 16 orientations."""
+    """The same code, smaller: every Grid(n...) gets 32 cells and at most 16 orientations, and certified
+    components are counted at resolution COARSE."""
     code = re.sub(r"Grid\(\d+", "Grid(32", code)
-    return re.sub(r"nphi=\d+", "nphi=16", code)
-
-
-@pytest.fixture
-def quick_results(tmp_path, monkeypatch):
-    """The README's main job (sesp sweep sweeps/quick.toml) on a small grid, in a fresh folder."""
-    monkeypatch.chdir(tmp_path)
-    shutil.copytree(ROOT / "sweeps", tmp_path / "sweeps")
-    sweep = tmp_path / "sweeps" / "quick.toml"
-    sweep.write_text(re.sub(r"nphi = \d+", "nphi = 16", re.sub(r"nx = \d+", "nx = 32", sweep.read_text())))
-    run(sweep, workers=1, progress=False)
-    return tmp_path
-
-
-def test_readme_has_python_blocks():
-    assert len(python_blocks(README.read_text())) >= 3
-
-
-def test_every_python_block_runs(quick_results):
-    matplotlib.use("Agg")
-    namespace = {}
-    for block in python_blocks(README.read_text()):
-        exec(compile(small(block), str(README), "exec"), namespace)
-    import matplotlib.pyplot as plt
-
-    plt.close("all")
+    code = re.sub(r"nphi=\d+", "nphi=16", code)
+    return code.replace("sesp.certified_components(", f"sesp.certified_components(resolution={COARSE}, particle=")
 
 
 def shell_lines(text: str) -> list:
@@ -59,21 +44,75 @@ def shell_lines(text: str) -> list:
     return lines
 
 
-def test_every_readme_command_line_is_accepted_by_the_cli_or_names_a_real_script():
-    import shlex
+@pytest.fixture
+def quick_results(tmp_path, monkeypatch):
+    """The README's main job (sesp sweep sweeps/quick.toml) on a small grid, in a fresh folder."""
+    monkeypatch.chdir(tmp_path)
+    shutil.copytree(ROOT / "sweeps", tmp_path / "sweeps")
+    sweep = tmp_path / "sweeps" / "quick.toml"
+    sweep.write_text(re.sub(r"nphi = \d+", "nphi = 16", re.sub(r"nx = \d+", "nx = 32", sweep.read_text())))
+    run(sweep, workers=1, progress=False)
+    return tmp_path
 
-    from sesp.cli import build_parser
 
-    lines = shell_lines(README.read_text())
-    sesp_lines = [line for line in lines if line.startswith("sesp ")]
-    assert len(sesp_lines) >= 8
-    for line in sesp_lines:
-        try:
-            build_parser().parse_args(shlex.split(line)[1:])
-        except SystemExit:
-            pytest.fail(f"README line not accepted by the CLI: {line}")
+def test_pages_have_python_blocks():
+    assert len(python_blocks(README.read_text())) >= 3
+    assert {p.name for p in PAGES} >= {"README.md", "guide.md", "findings.md", "benchmarks.md", "design.md"}
+
+
+def test_readme_is_short_and_starts_with_the_two_commands():
+    text = README.read_text()
+    assert len(text.splitlines()) <= 150
+    assert shell_lines(text)[:2] == ['pip install -e ".[test]" && sesp sweep sweeps/quick.toml', "pytest"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+def test_every_python_block_runs(quick_results, page):
+    matplotlib.use("Agg")
+    namespace = {}
+    for block in python_blocks(page.read_text()):
+        exec(compile(small(block), str(page), "exec"), namespace)
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
+def test_every_command_line_is_accepted_by_the_cli_or_names_a_real_file(page):
+    lines = shell_lines(page.read_text())
     for line in lines:
-        words = shlex.split(line)
-        for word in words:
+        if line.startswith("sesp "):
+            try:
+                build_parser().parse_args(shlex.split(line)[1:])
+            except SystemExit:
+                pytest.fail(f"{page.name}: line not accepted by the CLI: {line}")
+    for line in lines:
+        for word in shlex.split(line):
             if word.startswith(("benchmarks/", "sweeps/")) and word.endswith((".py", ".toml")):
-                assert (ROOT / word).is_file(), f"README names a missing file: {word}"
+                assert (ROOT / word).is_file(), f"{page.name} names a missing file: {word}"
+    for name in re.findall(
+        r"`((?:benchmarks|sweeps|docs|examples)/[\w./-]+\.(?:py|toml|md|ipynb|png))`", page.read_text()
+    ):
+        assert (ROOT / name).is_file(), f"{page.name} names a missing file: {name}"
+
+
+@pytest.mark.slow
+def test_the_readme_quick_start_commands_run(tmp_path, monkeypatch, capsys):
+    """Each `sesp` line of the quick start, as printed (certified counts at COARSE), in a folder with the
+    README's own polyline file."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "my_particle.txt").write_text("-1 0\n1 0\n")  # a needle of length 2
+    quick_start = README.read_text().split("## Quick start")[1].split("\n## ")[0]
+    lines = [line for line in shell_lines(quick_start) if line.startswith("sesp ")]
+    assert len(lines) >= 3
+    for line in lines:
+        words = shlex.split(line)[1:]
+        if words[0] == "topology":
+            words += ["--resolution", str(COARSE)]
+        assert main(["-q", *words]) == 0, line
+    printed = capsys.readouterr().out
+    assert "<A_ex> =" in printed and "B2" in printed and "components" in printed
+    assert (tmp_path / "asp150.png").stat().st_size > 10_000
+    assert main(["-q", "area", "--vertices", "my_particle.txt", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["leading_instability"] == 2
