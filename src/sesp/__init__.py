@@ -9,7 +9,7 @@ The public API is this module's ``__all__``; ``docs/design.md`` maps the
 modules behind it.
 """
 
-from . import exact, onsager, plot, topology, version
+from . import exact, onsager, plot, topology, version, virial
 from .analysis import analyze
 from .certified import Certified, certified_components
 from .dataset import SespFileError, cell_area, grid_of, pair_of
@@ -111,4 +111,5 @@ __all__ = [
     "onsager",
     "plot",
     "topology",
+    "virial",
 ]

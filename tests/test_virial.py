@@ -1,0 +1,63 @@
+"""B₃ from the overlap indicators against exact results: thin rings (hard disks of diameter 2R) and parallel
+squares, and against Monte Carlo on sesp's state-by-state overlap test for an open SeSP."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sesp import Polyline, SeSP
+from sesp.virial import third_virial, third_virial_monte_carlo
+
+SQUARE = Polyline([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]])
+DISKS = 4 / 3 - math.sqrt(3) / math.pi  # B₃/B₂² of hard disks: 0.7820044
+
+
+def test_thin_rings_are_hard_disks_of_twice_their_radius():
+    """Two thin rings of radius R meet exactly when hard disks of diameter 2R overlap."""
+    b = third_virial(SeSP(n=2), nodes=301, nphi=4, segments=512)
+    error = abs(float(b.reduced_third_virial) - DISKS)
+    assert error < 1e-3 and error <= float(b.reduced_third_virial_error)
+    assert float(b.second_virial_coefficient) == pytest.approx(2 * math.pi, rel=1e-5)  # B₂ = π(2R)²/2
+
+
+def test_parallel_squares():
+    """Parallel hard squares of side a: B₂ = 2a², B₃ = 3a⁴, B₃/B₂² = 3/4."""
+    b = third_virial(SQUARE, orientations="fixed", nodes=201)
+    error = abs(float(b.reduced_third_virial) - 0.75)
+    assert error < 1e-3 and error <= float(b.reduced_third_virial_error)
+    assert abs(float(b.third_virial_coefficient) - 48.0) <= float(b.third_virial_coefficient_error)
+
+
+def test_an_open_sesp_agrees_with_monte_carlo():
+    """The ASP at Ψ = 90° (polygons of 64 segments for both): within 3 standard errors plus the lattice's bar."""
+    asp = SeSP(n=2, opening=math.pi / 2)
+    lattice = third_virial(asp, nodes=101, nphi=8, segments=64)
+    sampled = third_virial_monte_carlo(asp, samples=40_000, seed=3, segments=64)
+    difference = abs(float(lattice.third_virial_coefficient) - float(sampled.third_virial_coefficient))
+    allowed = 3 * float(sampled.third_virial_coefficient_error) + float(lattice.third_virial_coefficient_error)
+    assert difference <= allowed
+
+
+def test_the_same_on_any_thread_count(threads):
+    results = []
+    for n in (1, 2):
+        threads(n)
+        results.append(third_virial(SeSP(n=2, opening=2.0), nodes=41, nphi=4, segments=32))
+    assert results[0].third_virial_coefficient.item() == results[1].third_virial_coefficient.item()
+
+
+def test_a_mixture_with_all_three_the_same_is_the_pure_value():
+    asp = SeSP(n=2, opening=2.0)
+    pure = third_virial(asp, nodes=41, nphi=4, segments=32)
+    mixed = third_virial(asp, SeSP(n=2, opening=2.0), SeSP(n=2, opening=2.0), nodes=41, nphi=4, segments=32)
+    np.testing.assert_allclose(float(mixed.third_virial_coefficient), float(pure.third_virial_coefficient), 1e-12)
+
+
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [({"nodes": 40}, "nodes must be odd"), ({"nphi": 5}, "nphi must be even"), ({"orientations": "x"}, "orientations")],
+)
+def test_bad_arguments_name_the_parameter(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        third_virial(SeSP(), **kwargs)
