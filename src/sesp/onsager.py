@@ -68,6 +68,9 @@ __all__ = [
     "ORDER_NAMES",
     "onsager_variables",
     "noise_estimate",
+    "onsager_solution",
+    "phase_behaviour",
+    "first_transition",
 ]
 
 SIGNIFICANCE = 3.0  # a_k counts as negative below −SIGNIFICANCE error bars
@@ -330,3 +333,220 @@ def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, 
         "reduced_instability_density_error": unstable.reduced_density_error,
         "leading_instability": unstable.leading_order,
     }
+
+
+# --- past the bifurcation: the second-virial free energy minimised over the orientational distribution ---
+
+SOLVER_TOLERANCE = 1e-10  # largest change of ψ (rad⁻¹) at which the fixed-point iteration stops
+SOLVER_STEPS = 20_000
+ORDERED = 1e-6  # |⟨cos kφ⟩| above which a solution counts as ordered
+
+
+def _state(psi, values, density, dphi) -> dict:
+    """Order parameters, free energy, pressure and chemical potential of the distribution ψ on the φ grid."""
+    phi = np.arange(len(psi)) * dphi
+    entropy = float(np.sum(psi * np.log(np.maximum(2 * np.pi * psi, 1e-300))) * dphi)
+    energy = float(np.dot(psi, _convolved(values, psi, dphi)) * dphi)  # ∫∫ ψ ψ' A_ex(φ − φ')
+    ks = np.arange(1, 7)
+    order = np.array([np.sum(psi * np.cos(k * phi)) * dphi for k in ks])
+    return {
+        "psi": psi,
+        "order": order,  # ⟨cos kφ⟩, k = 1..6
+        "free_energy": math.log(density) - 1 + entropy + 0.5 * density * energy,  # βF/N
+        "pressure": density + 0.5 * density**2 * energy,  # βP, b⁻²
+        "chemical_potential": math.log(density) + entropy + density * energy,  # βμ
+    }
+
+
+def _convolved(values, psi, dphi) -> np.ndarray:
+    """(A_ex ∗ ψ)(φ_i) = Σ_j A_ex(φ_i − φ_j) ψ_j Δφ: exact for the periodic rectangle rule, by FFT."""
+    return np.fft.irfft(np.fft.rfft(values) * np.fft.rfft(psi), len(psi)) * dphi
+
+
+def _symmetric(psi, fold: int) -> np.ndarray:
+    """ψ averaged over turns by 2π/fold (where the grid has them): the k-fold part, which the iteration keeps."""
+    if fold <= 1 or len(psi) % fold:
+        return psi
+    return np.mean([np.roll(psi, r * len(psi) // fold) for r in range(fold)], axis=0)
+
+
+def _solved(values, density, seed, dphi, fold: int = 1, mixing=0.5):
+    """The distribution ψ = exp(−ρ A_ex ∗ ψ) / Z reached from ``seed`` by damped fixed-point iteration, kept
+    ``fold``-fold symmetric (rounding would otherwise grow into a less symmetric order where that is unstable).
+    Near a bifurcation the iteration slows (a mode's factor nears 1); after SOLVER_STEPS it stops where it is."""
+    psi = _symmetric(seed, fold) / (seed.sum() * dphi)
+    for _ in range(SOLVER_STEPS):
+        field = -density * _convolved(values, psi, dphi)
+        new = _symmetric(np.exp(field - field.max()), fold)
+        new /= new.sum() * dphi
+        if float(np.abs(new - psi).max()) < SOLVER_TOLERANCE:
+            return new
+        psi = (1 - mixing) * psi + mixing * new
+    return psi
+
+
+def onsager_solution(excluded_area, density: float, order: int = 2, *, strength: float = 5.0) -> dict:
+    """The orientational distribution that makes the second-virial free energy stationary at ``density``.
+
+    βF/N = ln ρ − 1 + ∫ ψ ln(2πψ) dφ + (ρ/2) ∫∫ ψ(φ) ψ(φ') A_ex(φ − φ') dφ dφ', stationary where
+    ψ = exp(−ρ A_ex ∗ ψ) / Z; solved on the φ grid of ``excluded_area`` (A_ex(φ) as for
+    :func:`orientational_spectrum`; its convolution is exact for the grid's rectangle rule) by damped
+    iteration from ψ ∝ exp(``strength`` cos(order·φ)), kept k-fold symmetric (k = ``order``; where the grid
+    has turns by 2π/k): the k-fold solution where one exists, the isotropic one where none does.
+
+    Returns
+    -------
+    dict
+        ``psi`` (rad⁻¹ on the grid), ``order`` (⟨cos kφ⟩ for k = 1..6), ``free_energy`` (βF/N),
+        ``pressure`` (βP, b⁻²) and ``chemical_potential`` (βμ).
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> from sesp.onsager import onsager_solution
+    >>> phi = 2 * np.pi * np.arange(256) / 256
+    >>> needles = xr.DataArray(np.abs(np.sin(phi)), coords={"phi": phi}, dims="phi")  # L = 1
+    >>> bool(abs(onsager_solution(needles, 3 * np.pi / 2 * 0.9)["order"][1]) < 1e-6)  # isotropic below 3π/2
+    True
+    >>> round(float(onsager_solution(needles, 3 * np.pi / 2 * 1.2)["order"][1]), 2)  # nematic above: ⟨cos 2φ⟩
+    0.62
+    """
+    area = _area(excluded_area)
+    _check_phi(area)
+    if area.ndim != 1:
+        raise ValueError(f"excluded_area must be A_ex(φ) alone (dims ('phi',)), got dims {area.dims}")
+    density = float(density)
+    if not (math.isfinite(density) and density > 0):
+        raise ValueError(f"density must be a finite number > 0 (b^-2), got {density!r}")
+    values = area.values.astype(float)
+    dphi = 2 * np.pi / len(values)
+    phi = np.arange(len(values)) * dphi
+    psi = _solved(values, density, np.exp(strength * np.cos(int(order) * phi)), dphi, fold=int(order))
+    return _state(psi, values, density, dphi)
+
+
+def _coexistence(values, mean, branch):
+    """Densities (ρ_I, ρ_O) of isotropic and ordered states of equal βP and βμ, from the ordered branch
+    [(ρ, state), ...] (ascending ρ); None if the branch never crosses."""
+
+    def isotropic_at(pressure):  # βP = ρ + ρ² ⟨A_ex⟩ / 2 solved for ρ
+        return (-1 + math.sqrt(1 + 2 * mean * pressure)) / mean
+
+    def gap(state):
+        rho_i = isotropic_at(state["pressure"])
+        return math.log(rho_i) + rho_i * mean - state["chemical_potential"], rho_i
+
+    gaps = [(rho, *gap(state)) for rho, state in branch]
+    for (r0, g0, i0), (r1, g1, i1) in zip(gaps, gaps[1:], strict=False):
+        if g0 * g1 <= 0 and g0 != g1:
+            t = g0 / (g0 - g1)
+            return i0 + t * (i1 - i0), r0 + t * (r1 - r0)
+    return None
+
+
+def _coarser(size: int, at_least: int) -> int:
+    """The largest m dividing ``size`` with size / m >= ``at_least`` (1 if none)."""
+    return max([m for m in range(1, size + 1) if size % m == 0 and size // m >= at_least], default=1)
+
+
+def phase_behaviour(
+    excluded_area, orders=(1, 2, 4), *, span=(0.5, 2.0), points: int = 61, nphi: int = 256
+) -> xr.Dataset:
+    """Which order appears first as the density rises, and how: the Onsager solution past the bifurcations.
+
+    For each k in ``orders`` with an isotropic instability ρ*_k (:func:`instabilities`; k must divide the
+    number of orientations, so that the branch can be kept k-fold symmetric), the k-fold branch is
+    followed over ρ in ``span`` × the first instability's density (``points`` densities, from the highest
+    down, each solved from the one above); the order parameter ⟨cos kφ⟩, free energy, pressure and chemical
+    potential are stored per density, and the stable phase is the solution of lowest free energy. A branch
+    that exists below its ρ*_k (a subcritical bifurcation) gives a first-order transition: its coexisting
+    densities (equal βP and βμ) are found on it; otherwise the transition is continuous at ρ*_k.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``density`` (b⁻²) and ``order``: ``order_parameter`` (⟨cos kφ⟩ of the k-fold branch, 0 where it
+        is isotropic), ``free_energy`` (βF/N); over ``density``: ``stable_order`` (k of the stable phase, 0:
+        isotropic); over ``order``: ``bifurcation_density`` ρ*_k, ``coexistence_low`` and
+        ``coexistence_high`` (the isotropic and ordered coexisting densities; NaN for a continuous
+        transition) and ``continuous`` (1: continuous, 0: first order, −1: ρ*_k outside the span).
+    """
+    area = _area(excluded_area)
+    _check_phi(area)
+    area = area.isel(phi=slice(0, None, _coarser(area.sizes["phi"], nphi)))
+    # a k-fold branch is kept k-fold symmetric by averaging over turns by 2π/k: orders the grid has turns for
+    found = instabilities(area, [k for k in orders if k < area.sizes["phi"] / 2 and area.sizes["phi"] % k == 0])
+    unstable = found.density.dropna("order")
+    if unstable.sizes["order"] == 0:
+        raise ValueError("the isotropic state never becomes unstable to these orders: no transition to follow")
+    values = area.values.astype(float)
+    dphi = 2 * np.pi / len(values)
+    phi = np.arange(len(values)) * dphi
+    mean = float(values.mean())
+    first = float(unstable.min())
+    densities = np.linspace(span[0] * first, span[1] * first, int(points))
+    ks = [int(k) for k in unstable.order.values]
+    order_parameter = np.zeros((len(densities), len(ks)))
+    free_energy = np.zeros((len(densities), len(ks)))
+    low, high, continuous = np.full(len(ks), np.nan), np.full(len(ks), np.nan), np.zeros(len(ks), dtype=int)
+    for j, k in enumerate(ks):
+        psi = np.exp(5.0 * np.cos(k * phi))
+        branch = []
+        for i in range(len(densities) - 1, -1, -1):  # down in density, each from the one above
+            psi = _solved(values, densities[i], psi + 1e-3 * (1 + np.cos(k * phi)) / (2 * np.pi), dphi, fold=k)
+            state = _state(psi, values, densities[i], dphi)
+            order_parameter[i, j] = state["order"][k - 1] if abs(state["order"][k - 1]) > ORDERED else 0.0
+            free_energy[i, j] = state["free_energy"]
+            if order_parameter[i, j]:
+                branch.append((densities[i], state))
+        bifurcation = float(unstable.sel(order=k))
+        below = [rho for rho, _ in branch if rho < bifurcation * (1 - 2 / points)]
+        if not densities[0] < bifurcation < densities[-1]:
+            continuous[j] = -1  # not reached in this span
+        elif below:  # the ordered branch reaches below the instability: first order
+            pair = _coexistence(values, mean, sorted(branch, key=lambda item: item[0]))
+            if pair is not None:
+                low[j], high[j] = pair
+        else:
+            continuous[j] = 1
+    isotropic = np.log(densities) - 1 + 0.5 * densities * mean
+    stack = np.column_stack([isotropic, np.where(order_parameter != 0, free_energy, np.inf)])
+    stable = np.array([0, *ks])[np.argmin(stack, axis=1)]
+    coords = {"density": ("density", densities, dict(DENSITY)), "order": ks}
+    return xr.Dataset(
+        {
+            "order_parameter": (("density", "order"), order_parameter, {"units": "1", "long_name": "<cos k phi>"}),
+            "free_energy": (("density", "order"), free_energy, {"units": "1", "long_name": "beta F / N"}),
+            "stable_order": ("density", stable, {"units": "1", "long_name": "k of the stable phase (0: isotropic)"}),
+            "bifurcation_density": ("order", unstable.values, {**DENSITY, "long_name": "rho*_k"}),
+            "coexistence_low": ("order", low, {**DENSITY, "long_name": "isotropic coexisting density"}),
+            "coexistence_high": ("order", high, {**DENSITY, "long_name": "ordered coexisting density"}),
+            "continuous": (
+                "order",
+                continuous,
+                {"units": "1", "long_name": "1 continuous, 0 first order, -1 not reached"},
+            ),
+        },
+        coords=coords,
+    )
+
+
+def first_transition(excluded_area, orders=(1, 2, 4)) -> dict:
+    """The first ordering transition as the density rises (see :func:`phase_behaviour`): ``order`` (k, 0 if
+    none), ``density`` (b⁻²: the bifurcation ρ*_k of a continuous transition, the isotropic coexisting
+    density of a first-order one), ``ordered_density`` (the ordered coexisting density; equal to
+    ``density`` when continuous) and ``continuous`` (bool; False also for a branch that reaches below ρ*_k by
+    less than the density step, whose coexistence gap is then not resolved: both densities are ρ*_k)."""
+    try:
+        found = phase_behaviour(excluded_area, orders)
+    except ValueError:  # never unstable: no transition
+        return {"order": 0, "density": math.nan, "ordered_density": math.nan, "continuous": False}
+    ordered = found.stable_order.where(found.stable_order > 0, drop=True)
+    k = int(ordered[0]) if ordered.size else int(found.order[found.bifurcation_density.argmin()])
+    row = found.sel(order=k)
+    if int(row.continuous) == 0 and np.isfinite(float(row.coexistence_low)):
+        low, high, continuous = float(row.coexistence_low), float(row.coexistence_high), False
+    else:
+        low = high = float(row.bifurcation_density)
+        continuous = int(row.continuous) == 1
+    return {"order": k, "density": low, "ordered_density": high, "continuous": continuous}

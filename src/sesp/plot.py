@@ -21,6 +21,7 @@ from .regions import position_summary
 from .shape import SeSP, as_polyline
 
 __all__ = [
+    "phase_diagram",
     "draw_particle",
     "shape_gallery",
     "allowed_map",
@@ -882,3 +883,63 @@ def figure(kind: str, ds: xr.Dataset | None = None):
     if kind == "thickness":
         return thickness_curves(ds)
     raise ValueError(f"unknown figure kind {kind!r}")
+
+
+PHASE_COLORS = {0: "0.9", 1: "tab:red", 2: "tab:blue", 4: "tab:green"}
+PHASE_FILLS = {1: "#fcd5c8", 2: "#d4e4f4", 4: "#d5efd0"}  # opaque light tints: no seams where bands meet
+
+
+def phase_diagram(ds, *, axes=None):
+    """Density of the first ordering transition against the opening Ψ, one panel per n (Onsager theory).
+
+    ``ds`` over (``n``, ``opening``) holds ``transition_order`` (k: 1 polar, 2 nematic, 4 tetratic; 0 none),
+    ``transition_density`` and ``ordered_density`` (b⁻²; the coexisting densities of a first-order
+    transition) and ``continuous`` (as ``benchmarks/phase_diagram.py`` writes it, from
+    :func:`sesp.onsager.first_transition`). Below the line the isotropic state is stable; the band above is
+    coloured by the order that appears; first-order transitions are hollow markers with their coexistence
+    gap drawn as a bar. Returns the figure.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    ns = list(ds.n.values)
+    if axes is None:
+        fig, axes = plt.subplots(1, len(ns), figsize=(3.4 * len(ns), 3.4), sharey=True, layout="constrained")
+    axes = np.atleast_1d(axes)
+    degrees = np.degrees(ds.opening.values)
+    top = float(np.nanmax(ds.ordered_density.values)) * 3
+    bottom = float(np.nanmin(ds.transition_density.values)) / 3
+    for ax, n in zip(axes, ns, strict=True):
+        row = ds.sel(n=n)
+        rho, order = row.transition_density.values, row.transition_order.values.astype(int)
+        for i in range(len(degrees) - 1):  # the ordered band, each step coloured by the order at its ends
+            k = order[i] or order[i + 1]
+            if k and np.isfinite(rho[i : i + 2]).all():
+                ax.fill_between(degrees[i : i + 2], rho[i : i + 2], top, color=PHASE_FILLS[k], linewidth=0)
+        ax.plot(degrees, rho, color="k", lw=1)
+        for d, r, hi, k, cont in zip(degrees, rho, row.ordered_density.values, order, row.continuous.values):
+            if not k:
+                continue
+            face = PHASE_COLORS[k] if cont else "white"
+            ax.plot([d], [r], "o", color=PHASE_COLORS[k], markerfacecolor=face, markersize=5)
+            if hi > r:
+                ax.plot([d, d], [r, hi], color=PHASE_COLORS[k], lw=2)
+        ax.set_yscale("log")
+        ax.set_ylim(bottom, top)
+        ax.set_xlim(degrees[0], degrees[-1])
+        ax.set_xticks(np.arange(0, 361, 90))
+        ax.set_title(f"n = {n:g}", fontsize=10)
+        ax.set_xlabel("opening Ψ (degrees)")
+        ax.text(0.03, 0.04, "isotropic", transform=ax.transAxes, fontsize=8, color="0.3")
+    axes[0].set_ylabel(r"density $\rho$ ($b^{-2}$)")
+    present = sorted({int(k) for k in np.unique(ds.transition_order.values) if k})
+    handles = [Patch(color=PHASE_FILLS[k], label=ORDER_NAME[k]) for k in present]
+    handles += [
+        Line2D([], [], marker="o", color="k", linestyle="", label="continuous"),
+        Line2D([], [], marker="o", color="k", markerfacecolor="white", linestyle="", label="first order (gap)"),
+    ]
+    fig = axes[0].figure
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    fig.suptitle("first ordering transition of the isotropic state (second-virial Onsager theory)", fontsize=10)
+    return fig
