@@ -247,7 +247,8 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
+@pytest.mark.full  # the channel rule's fast checks: the two synthetic channel and sliver tests below
+@pytest.mark.parametrize("base", [97, 128])
 def test_the_asp_crescents_at_0_3_degrees_are_followed_and_part_lens_and_body(base, tmp_path):
     """At Ψ = 0.3125° the ASP's lens and body (exact: two components) are parted by crescents at most
     2·sin(Ψ/2) = 0.0055 b wide, an eighth of a cell of 97 (97 cells saw one body before). The channels
@@ -909,7 +910,8 @@ def test_specks_of_the_floor_join_one_another_and_the_nearest_body_never_two():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("base", [pytest.param(97, marks=pytest.mark.full), 128])
+@pytest.mark.full  # the speck rule's fast check: test_specks_of_the_floor_join_one_another_and_the_nearest_body...
+@pytest.mark.parametrize("base", [97, 128])
 def test_the_n4_body_s_horn_tips_are_no_specks_of_their_own(base):
     """At Ψ = 0.3125° the n = 4 body's horns end near (1.98, ±0.58) b in strips about 4e-4 b wide, which the
     floor's cells (1.6e-4 and 2.1e-4 b) sample in pieces; a brute-force raster on cells of 5e-5 b finds the

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from sesp import load
+from sesp.cli import main
 from sesp.shape import DEFAULT_SEGMENTS
 from sesp.sweep import DEFAULT_GRID, SweepError, collect, load_spec, run
 
@@ -279,3 +281,36 @@ def test_a_sweep_file_needs_only_its_particles(tmp_path):
     assert list(spec.keep) == ["excluded_area"]
     assert spec.particle["opening"] == (math.radians(60), math.radians(90))
     assert spec.particle["segments"] == (DEFAULT_SEGMENTS,)
+
+
+@pytest.mark.slow
+def test_a_sweep_keeps_the_phases_and_b3_and_plots_them(tmp_path):
+    """keep "phases" and "third_virial": the first transition and B₃ per point, drawn by `sesp plot phases`;
+    n = 8 at 90° orders nematically and continuously (benchmarks/phase_diagram.py: 1.384 b⁻²)."""
+    path = write_sweep(tmp_path, PHASES_SWEEP.format(out=tmp_path / "out"))
+    collected = run(path, workers=1, progress=False)
+    ds = load(collected)
+    point = ds.sel(opening=math.radians(90))  # one n: a scalar coordinate of the collected file
+    assert int(point.transition_order) == 2 and int(point.continuous) == 1
+    assert float(point.transition_density) == pytest.approx(1.384, rel=2e-3)
+    assert 0.5 < float(point.reduced_third_virial) < 1.0 and float(point.third_virial_coefficient_error) > 0
+    assert main(["plot", "phases", str(collected), "-o", str(tmp_path / "phases.png")]) == 0
+    assert (tmp_path / "phases.png").stat().st_size > 10_000
+
+
+PHASES_SWEEP = """
+[sweep]
+output = "{out}"
+
+[particle]
+n = [8]
+opening = {{ start = 90, stop = 180, step = 90 }}
+segments = 64
+
+[grid]
+nx = 16
+nphi = 64
+
+[output]
+keep = ["excluded_area", "phases", "third_virial"]
+"""

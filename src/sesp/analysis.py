@@ -15,17 +15,19 @@ from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
 from .measures import SCANLINE_ROWS, closed_pair_excluded_area, excluded_area
-from .onsager import onsager_variables
+from .onsager import first_transition, onsager_variables
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
 from .topology import excluded_components
-from .units import AREA, LENGTH
+from .units import AREA, DENSITY, LENGTH
+from .virial import third_virial
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 
-KEEP = ("excluded_area", "classes", "topology", "allowed", "crossings", "entangled")
+KEEP = ("excluded_area", "classes", "topology", "phases", "third_virial", "allowed", "crossings", "entangled")
+SCALAR_KEEP = ("excluded_area", "phases", "third_virial")  # what needs no pass over the lattice
 FIELD_KEEP = ("allowed", "crossings", "entangled")
 COMPONENTS_KEPT = 4  # areas of the largest excluded components stored
 PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "classes")
@@ -36,7 +38,7 @@ SUMMARY_BYTES_PER_POSITION = 64
 def needs_lattice(keep) -> bool:
     """Whether keeping ``keep`` takes a pass over the lattice (fields, classes, components); A_ex(φ) alone
     comes from scanlines and does not."""
-    return any(k != "excluded_area" for k in check_keep(keep))
+    return any(k not in SCALAR_KEEP for k in check_keep(keep))
 
 
 def check_memory(grid: Grid, keep, limit: int | None = None) -> None:
@@ -109,6 +111,14 @@ def analyze(
           ``COMPONENTS_KEPT``) and ``component_radius(component)`` (inscribed
           radius on the lattice, b: below ``RESOLVED_PEAK`` node spacings a
           component is at the grid's reach);
+        * ``"phases"``: the first ordering transition of the isotropic state in
+          second-virial theory (:func:`sesp.onsager.first_transition`):
+          ``transition_order`` (k, 0: none), ``transition_density`` and
+          ``ordered_density`` (b⁻², the coexisting densities of a first-order
+          transition) and ``continuous``;
+        * ``"third_virial"``: ``third_virial_coefficient`` ± error (b⁴) and
+          ``reduced_third_virial`` B₃/B₂² (:func:`sesp.virial.third_virial` at its
+          defaults: 129 nodes, 32 orientations; a few seconds);
         * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}
@@ -145,6 +155,12 @@ def analyze(
         )
     if "topology" in keep:
         _add_components(ds)
+    if "phases" in keep:
+        _add_phases(ds)
+    if "third_virial" in keep:
+        found = third_virial(pair.particle, pair.other, segments=pair.segments)
+        for name in ("third_virial_coefficient", "third_virial_coefficient_error", "reduced_third_virial"):
+            ds[name] = found[name]
     if "classes" not in keep:
         ds = ds.drop_vars([v for v in PER_POSITION if v in ds])
     return ds
@@ -203,6 +219,19 @@ def _add_normalized(ds, pair, grid):
     ds["closed_excluded_area"] = xr.DataArray(
         reference, attrs={**AREA, "long_name": "orientation-averaged A_ex of the closed shape"}
     )
+
+
+def _add_phases(ds):
+    """The first ordering transition of the isotropic state (Onsager theory), in place."""
+    found = first_transition(ds)
+    ds["transition_order"] = xr.DataArray(found["order"], attrs={"units": "1", "long_name": "k of the first order"})
+    ds["transition_density"] = xr.DataArray(
+        found["density"], attrs={**DENSITY, "long_name": "isotropic density at the first transition"}
+    )
+    ds["ordered_density"] = xr.DataArray(
+        found["ordered_density"], attrs={**DENSITY, "long_name": "ordered density at the first transition"}
+    )
+    ds["continuous"] = xr.DataArray(int(found["continuous"]), attrs={"units": "1", "long_name": "1: continuous"})
 
 
 def _add_components(ds):

@@ -542,6 +542,7 @@ PLOT_KINDS = {
     "topology": "excluded components and their areas against Ψ, from a collected sweep",
     "onsager": "B2 and the first Onsager instability against Ψ, from a collected sweep",
     "thickness": "normalised A_ex against Ψ per thickness, from a collected thickness sweep",
+    "phases": "the first ordering transition against Ψ (per n), from a sweep that keeps 'phases'",
 }
 SINGLE_PAIR = ("sesp.scan", "sesp.summary", "sesp.point")
 
@@ -579,6 +580,7 @@ def _check_plot_input(kind: str, path, ds):
         "topology": ("opening",),
         "onsager": ("opening",),
         "thickness": ("thickness",),
+        "phases": ("opening",),
     }
     if kind in needs and not any(d in ds.dims for d in needs[kind]):
         wanted = " or ".join(repr(d) for d in needs[kind])

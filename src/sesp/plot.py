@@ -862,7 +862,7 @@ def figure(kind: str, ds: xr.Dataset | None = None):
     """One of the paper's figures as a matplotlib Figure.
 
     ``kind`` is "gallery", "maps" (dots), "maps_raster", "curve", "panels",
-    "topology", "onsager" or "thickness"; ``ds`` is the matching collected sweep (not for "gallery").
+    "topology", "onsager", "thickness" or "phases"; ``ds`` is the matching collected sweep (not for "gallery").
     """
     if kind == "gallery":
         return shape_gallery()
@@ -882,6 +882,8 @@ def figure(kind: str, ds: xr.Dataset | None = None):
         return onsager_plot(ds)
     if kind == "thickness":
         return thickness_curves(ds)
+    if kind == "phases":
+        return phase_diagram(ds)
     raise ValueError(f"unknown figure kind {kind!r}")
 
 
@@ -903,6 +905,11 @@ def phase_diagram(ds, *, axes=None):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
+    if "transition_density" not in ds:
+        raise ValueError("phase_diagram needs transition_density: a sweep that keeps 'phases'")
+    if "n" not in ds.dims:  # a sweep over the opening alone: its one n
+        n = float(ds.n) if "n" in ds.coords else float(ds.attrs.get("particle_n", math.nan))
+        ds = ds.drop_vars("n", errors="ignore").expand_dims(n=[n])
     ns = list(ds.n.values)
     if axes is None:
         fig, axes = plt.subplots(1, len(ns), figsize=(3.4 * len(ns), 3.4), sharey=True, layout="constrained")

@@ -40,7 +40,7 @@ the shape keys, in ``[particle]`` or ``[other]``:
     nphi = 64                   # ny optional (default nx)
 
     [output]                    # optional; default keep = ["excluded_area"]
-    keep = ["excluded_area", "classes", "topology"]   # and/or "allowed" (the field)
+    keep = ["excluded_area", "classes", "topology"]   # and/or "phases", "third_virial", "allowed" (the field)
 
 The shortest sweep file names its particles alone:
 
