@@ -1,6 +1,7 @@
 """Adaptive maps exact in φ: the widest window, the clearance certificate, components against exact sets."""
 
 import dataclasses
+import fcntl
 import functools
 import json
 import math
@@ -25,6 +26,7 @@ from sesp.maps import (
     excluded_map,
     joined_specks,
     map_transitions,
+    stored_map,
     widest_window,
 )
 from sesp.orientations import ANGLE_GAP, SCREEN_SLACK
@@ -33,6 +35,19 @@ from sesp.report import format_map_transitions, map_change
 from sesp.topology import RESOLVED_PEAK, components
 
 ASP90 = SeSP(n=2, opening=math.radians(90))
+ASP170 = math.radians(170)
+
+
+@pytest.fixture(scope="session")
+def asp170_maps(tmp_path_factory):
+    """A maps folder holding the ASP's map at 170° (base 48 cells, floor 1e-4 b, 256 segments), made once for
+    all test processes (the first to need it, under a lock) and read by the tests that need that map."""
+    shared = tmp_path_factory.getbasetemp().parent / "asp170_maps"
+    with open(f"{shared}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        shared.mkdir(exist_ok=True)
+        stored_map(shared, ASP170, as_pair(SeSP(n=2, opening=ASP170)), base=48, floor=1e-4)
+    return shared
 
 
 def test_widest_window_agrees_with_the_measure_and_a_fine_phi_sample():
@@ -224,7 +239,7 @@ def test_parts_thinner_than_the_polylines_departure_from_the_curve_are_the_polyl
 
 
 @pytest.mark.slow
-def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marked_unresolved():
+def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marked_unresolved(asp170_maps):
     """An ASP's polyline departs from the circle by the sagitta 1 − cos(Δ/2), Δ the angle its longest chord
     spans; a pair departs by both. With 12 segments every piece of the set at 170° is thinner than the 0.019 b
     departure or seen only at the floor, and marked; with 256 the lens and body are resolved."""
@@ -238,7 +253,7 @@ def test_the_polylines_departure_is_the_sagitta_and_thinner_components_are_marke
     assert as_pair(Polyline([[0, 0], [1, 0]])).departure == 0.0
     polygon = excluded_map(SeSP(n=2, opening=psi), segments=12, base=48, floor=1e-4)
     assert polygon.count and all(polygon.limit(c) for c in polygon.components)
-    arc = excluded_map(SeSP(n=2, opening=psi), segments=256, base=48, floor=1e-4)
+    arc = stored_map(asp170_maps, psi, as_pair(SeSP(n=2, opening=psi)), base=48, floor=1e-4)  # 256 segments
     assert arc.count == 2 and not any(arc.limit(c) for c in arc.components)
     assert arc.dataset().attrs["departure"] == pytest.approx(2 * sagitta, rel=1e-6)
     both = _transitions_dataset({psi: (polygon, 1e-4), psi + 0.01: (arc, 1e-4)}, [(psi, psi + 0.01, 1e-4)], 1e-4, 48)
@@ -570,7 +585,7 @@ def test_a_thin_part_of_a_thick_body_running_away_from_it_is_refined_beyond_its_
 
 
 @pytest.mark.slow
-def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch, capsys):
+def test_transitions_on_maps_bracket_the_asp_end_at_pi(tmp_path, monkeypatch, capsys, asp170_maps):
     """The excluded set ends at π: the last change, to 0, is bracketed around 180°. Below it the lens, under
     4e-3 b thick from 170° (a twentieth of a base cell) and pinched to the body at the centre, is found: two
     components, the lens with its exact area (π − Ψ) − sin Ψ. Each map is saved as it is made: the same
