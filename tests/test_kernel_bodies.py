@@ -29,6 +29,18 @@ def _same(a, b) -> bool:
     return a == b or (isinstance(a, float) and math.isnan(a) and math.isnan(b))
 
 
+def _copied(value):
+    """A deep copy that keeps each array's read-only flag: numba compiles read-only and writable arrays as
+    different types, and a copy that changed the flag would compile the kernel again for it."""
+    if isinstance(value, tuple | list):
+        return type(value)(_copied(v) for v in value)
+    if isinstance(value, np.ndarray):
+        copy_ = value.copy()
+        copy_.flags.writeable = value.flags.writeable
+        return copy_
+    return copy.deepcopy(value)
+
+
 def _recorded(monkeypatch, owner, name, most: int = 4) -> list:
     """Record the arguments of the first ``most`` calls of ``owner.name`` (copied before the kernel writes
     into them)."""
@@ -36,7 +48,7 @@ def _recorded(monkeypatch, owner, name, most: int = 4) -> list:
 
     def recording(*args):
         if len(calls) < most:
-            calls.append(copy.deepcopy(args))
+            calls.append(_copied(args))
         return kernel(*args)
 
     monkeypatch.setattr(owner, name, recording)
@@ -44,7 +56,7 @@ def _recorded(monkeypatch, owner, name, most: int = 4) -> list:
 
 
 def _assert_body_matches(kernel, args):
-    compiled, python = copy.deepcopy(args), copy.deepcopy(args)
+    compiled, python = _copied(args), _copied(args)
     assert _same(kernel(*compiled), kernel.py_func(*python))
     assert _same(compiled, python)  # the outputs written into the arguments
 
