@@ -948,3 +948,25 @@ def test_a_thick_body_whose_tip_reaches_the_floor_is_not_unresolved_for_it():
     body = found.components[0]
     assert body.touches_floor and not body.floor_limited
     assert [found.limit(c) for c in found.components] == ["", ""]
+
+
+def test_a_damaged_saved_map_and_a_bad_range_are_clear_errors(tmp_path):
+    """A map file that cannot be read names itself and the remedy; a search range the wrong way round is
+    refused before any map is made."""
+    pair = as_pair(SeSP(n=2, opening=ASP170))
+    (tmp_path / f"map_{ASP170!r}.nc").write_bytes(b"not a netCDF file")
+    with pytest.raises(SespFileError, match="remove it to make that map again"):
+        stored_map(tmp_path, ASP170, pair, base=48, floor=1e-4)
+    with pytest.raises(ValueError, match="opening_range must satisfy"):
+        map_transitions(ASP90, (2.0, 1.0))
+
+
+def test_a_map_component_says_what_it_may_be_an_artefact_of():
+    """The limits in the order the map reports them, and the JSON form of a component."""
+    piece = MapComponent(area=1.0, inscribed_radius=1e-3, bbox=(0.0, 1.0, 0.0, 1.0), touches_floor=False,
+                         x=np.zeros(1), y=np.zeros(1), cell=np.ones(1))  # fmt: skip
+    found = ExcludedMap(components=[piece], floor=1e-4, base_cells=48, reach=2.0, positions=1, finest=1e-4,
+                        departure=1e-2)  # fmt: skip
+    assert found.limit(piece) == "polylines" and found.channels == 0
+    assert found.limit(dataclasses.replace(piece, encloses_slivers=True)) == "slivers"
+    assert piece.as_dict()["area"] == 1.0

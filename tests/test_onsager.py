@@ -12,6 +12,7 @@ from sesp.onsager import (
     entangled_neighbours,
     instabilities,
     mixture_second_virial,
+    onsager_solution,
     onsager_variables,
     orientational_spectrum,
     second_virial,
@@ -171,3 +172,23 @@ def test_onsager_takes_what_excluded_area_returns_and_carries_its_error_bars():
     xr.testing.assert_identical(orientational_spectrum(area, 4), bounds)
     variables = onsager_variables(area)
     assert float(variables["second_virial_coefficient_error"]) == pytest.approx(b2.attrs["error"])
+
+
+@pytest.mark.parametrize(
+    "call, word",
+    [
+        (lambda: second_virial(xr.Dataset({"other": 1.0})), "needs the variable excluded_area"),
+        (lambda: second_virial(xr.DataArray([1.0, 2.0], dims="x")), "'phi' dimension"),
+        (lambda: mixture_second_virial(xr.DataArray(0.0), 1.5), "fraction_a"),
+        (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16).expand_dims(n=[1, 2]), 1.0), "alone"),
+        (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16), -1.0), "density"),
+    ],
+)
+def test_bad_onsager_inputs_name_what_is_wrong(call, word):
+    with pytest.raises(ValueError, match=word):
+        call()
+
+
+def test_too_few_orientations_give_b2_alone():
+    found = onsager_variables(_uniform(lambda p: 2 + 0 * p, 2))
+    assert set(found) == {"second_virial_coefficient"} and float(found["second_virial_coefficient"]) == 1.0
