@@ -39,10 +39,9 @@ def main():
     asp = SeSP(n=2, opening=math.pi / 2)
     lattice = third_virial(asp, nodes=201, nphi=32)
     sampled = third_virial_monte_carlo(asp, samples=SAMPLES, seed=1)
-    b3, bar, t_lattice = float(lattice.third_virial_coefficient), float(lattice.third_virial_coefficient_error), 0.0
-    t_lattice = lattice.attrs["seconds"]
-    mc, se, t_mc = float(sampled.third_virial_coefficient), float(sampled.third_virial_coefficient_error), 0.0
-    t_mc = sampled.attrs["seconds"]
+    b3, bar = float(lattice.third_virial_coefficient), float(lattice.third_virial_coefficient_error)
+    mc, se = float(sampled.third_virial_coefficient), float(sampled.third_virial_coefficient_error)
+    t_lattice, t_mc = lattice.attrs["seconds"], sampled.attrs["seconds"]
     t_mc_same = t_mc * (se / bar) ** 2  # Monte Carlo's error falls as 1/sqrt(samples)
     agree = abs(b3 - mc) <= 3 * se + bar
     table(
