@@ -16,7 +16,7 @@ from _common import machine, peak_rss_mib, table
 
 from sesp import Grid, SeSP
 from sesp.regions import summarize
-from sesp.topology import excluded_components
+from sesp.topology import lattice_components
 
 
 def main():
@@ -30,7 +30,7 @@ def main():
     t0 = time.perf_counter()
     s = summarize(particle, grid)
     t_scan = time.perf_counter() - t0
-    comps = excluded_components(s)
+    comps = lattice_components(s)
     wall = time.perf_counter() - t0
     peak = peak_rss_mib()
     print(f"machine: {machine()}\n")

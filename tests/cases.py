@@ -44,7 +44,7 @@ nx = 24
 nphi = 16
 
 [output]
-keep = ["excluded_area", "classes", "topology"]
+keep = ["excluded_area", "classes"]
 """
 
 

@@ -11,7 +11,7 @@ from sesp import (
     SeSP,
     analyze,
     closed_excluded_area,
-    excluded_components,
+    certified_components,
     lattice_excluded_area,
     scan,
     scanline_excluded_area,
@@ -27,7 +27,7 @@ GRID = Grid(24, nphi=16)
 
 
 def test_analysis_equals_scan_summary_and_components():
-    ds = analyze(ASP, GRID, segments=24, keep=["allowed", "classes", "topology"])
+    ds = analyze(ASP, GRID, segments=24, keep=["allowed", "classes", "topology"], resolution=1e-2)
     field = scan(ASP, GRID, segments=24)
     summary = summarize(ASP, GRID, segments=24)
     np.testing.assert_array_equal(ds.allowed.values, field.allowed.values)
@@ -38,7 +38,10 @@ def test_analysis_equals_scan_summary_and_components():
     )
     assert float(ds.lattice_excluded_area.mean()) == pytest.approx(lattice_excluded_area(field), rel=1e-12)
     assert float(ds.closed_excluded_area) == closed_excluded_area(summary)
-    assert int(ds.excluded_components) == excluded_components(summary).count
+    found = certified_components(ASP, resolution=1e-2, segments=24)
+    assert (int(ds.excluded_components), int(ds.excluded_components_high)) == (found.low, found.high) == (2, 2)
+    assert ds.component_depth.values[:2].tolist() == [c.depth for c in found.components]
+    assert ds.excluded_components.attrs["resolution"] == 1e-2
     assert ds.attrs["allowed_sha256"] == field.attrs["allowed_sha256"]
 
 

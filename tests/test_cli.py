@@ -65,39 +65,19 @@ def test_python_dash_m_works(tmp_path):
 
 
 @pytest.mark.slow
-def test_topology_report_with_the_axis_count(capsys):
-    assert (
-        main(
-            [
-                "-q",
-                "topology",
-                "--n",
-                "2",
-                "--opening-range",
-                "150",
-                "190",
-                "--step",
-                "20",
-                "--nx",
-                "24",
-                "--nphi",
-                "16",
-                "--segments",
-                "128",  # the 64-gon's lens (radius ~3e-4 b at 177°) ends before its body: it departs as far
-                "--refine",
-                "1",
-                "--axis",
-                "64",
-            ]
-        )
-        == 0
-    )
+def test_topology_over_the_opening_prints_the_changes_and_json_with_units(tmp_path, capsys):
+    command = ["-q", "topology", "--n", "2", "--opening-range", "150", "190", "--step", "40", "--width", "10",
+               "--resolution", "1e-2", "--segments", "128"]  # fmt: skip
+    png = tmp_path / "t.png"
+    assert main([*command, "--plot", str(png)]) == 0
     text = capsys.readouterr().out
-    axis = text[text.index("excluded (axis)") :]
-    assert "transitions on 64 axis nodes, exact in phi" in axis
-    assert "2 -> 0 at Psi" in axis  # island and body end together, at π
-    assert main(["topology", "--axis", "4"]) == 2
-    assert "--axis" in capsys.readouterr().err
+    assert "excluded components over the opening, at resolution 1.0e-02 b" in text and "2 -> " in text
+    assert png.stat().st_size > 20_000
+    assert main([*command, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["n"], out["segments"], out["resolution"], out["width_deg"]) == (2.0, 128, 1e-2, 10.0)
+    assert out["counts"][0] == {"opening_deg": 150.0, "opening": math.radians(150), "count_low": 2, "count_high": 2}
+    assert out["transitions"][-1]["count_after"] == [0, 0] and out["transitions"][-1]["high_deg"] <= 190.0
 
 
 def test_global_options_are_accepted_after_the_command(tmp_path, capsys):
@@ -123,12 +103,14 @@ def test_every_option_has_help_text():
 
 
 @pytest.mark.parametrize(
-    "value, word", [("nan", "--tolerance"), ("1e-300", "--tolerance"), ("inf", "--tolerance"), ("100", "--tolerance")]
-)
-def test_topology_tolerance_is_in_degrees_and_checked(value, word, capsys):
-    assert main(["topology", "--tolerance", value, "--nx", "8", "--nphi", "4"]) == 2
+    "option, value",
+    [("--width", "nan"), ("--width", "1e-300"), ("--step", "inf"), ("--width", "100"), ("--resolution", "-1"),
+     ("--base", "2"), ("--opening-range", "10 5")],
+)  # fmt: skip
+def test_topology_options_are_checked_in_their_units(option, value, capsys):
+    assert main(["topology", option, *value.split()]) == 2
     err = capsys.readouterr().err
-    assert word in err and "degrees" in err and "Traceback" not in err
+    assert option in err and ("degrees" in err or " b" in err or "cells" in err) and "Traceback" not in err
 
 
 def test_plot_misuse_is_one_line(tmp_path, capsys):

@@ -12,7 +12,6 @@ from sesp import (
     analyze,
     cell_area,
     describe,
-    excluded_map,
     grid_of,
     load,
     monte_carlo,
@@ -34,15 +33,14 @@ def _files(tmp_path):
     files = {
         "scan": save(scan(asp, GRID, segments=16), tmp_path / "scan.nc"),
         "summary": save(summarize(asp, GRID, segments=16), tmp_path / "summary.nc"),
-        "analysis": save(analyze(asp, GRID, segments=16, keep=["classes", "topology"]), tmp_path / "analysis.nc"),
+        "analysis": save(analyze(asp, GRID, segments=16, keep=["classes", "topology"], resolution=1e-2),
+                         tmp_path / "analysis.nc"),
         "mixture": save(analyze(asp, GRID, other=ZED, segments=16), tmp_path / "mixture.nc"),
         "monte_carlo": save(monte_carlo(asp, samples=200, segments=16, seed=1), tmp_path / "mc.nc"),
     }
     collected = run(write_sweep(tmp_path, SMALL.format(out=tmp_path / "sweep")), workers=1, progress=False)
     files["point"] = point_files(tmp_path / "sweep")[0]
     files["sweep"] = collected
-    found = excluded_map(asp, base=16, floor=1e-2, segments=16)
-    files["map"] = save(found.dataset(), tmp_path / "map.nc")
     return files
 
 
@@ -59,7 +57,6 @@ KINDS = {
     "monte_carlo": "sesp.monte_carlo",
     "point": "sesp.point",
     "sweep": "sesp.sweep",
-    "map": "sesp.map",
 }
 
 

@@ -14,11 +14,9 @@ import numpy as np
 import sesp.certified
 import sesp.kernels.cells
 import sesp.kernels.depth
-import sesp.kernels.labels
 import sesp.kernels.orientations
 from sesp import SeSP, certified_components
 from sesp.kernels.common import find_root, sort_first
-from sesp.topology import components
 
 
 def _same(a, b) -> bool:
@@ -89,6 +87,7 @@ def test_certified_engine_kernel_bodies(monkeypatch):
     }
     calls = {key: _recorded(monkeypatch, *key) for key in kernels}
     certified_components(SeSP(n=2, opening=math.radians(150)), resolution=1e-2, base=8, segments=32)
+    certified_components(SeSP(n=4, opening=0.0), resolution=1e-1, base=8, segments=16)  # a closed curve
     for key, kernel in kernels.items():
         assert calls[key], f"{key[1]} was not called"
         for args in calls[key]:
@@ -97,7 +96,7 @@ def test_certified_engine_kernel_bodies(monkeypatch):
 
 def test_lattice_kernel_bodies(monkeypatch):
     from sesp import Grid, analyze, scan
-    from sesp.kernels import hull, labels, orientations, overlap, scanline
+    from sesp.kernels import hull, orientations, overlap, scanline
     from sesp.measures import scanline_excluded_area
     from sesp.orientations import allowed_orientations, blocked_orientations
 
@@ -106,7 +105,6 @@ def test_lattice_kernel_bodies(monkeypatch):
         (overlap, "direct_slices"): overlap.direct_slices,
         (hull, "mutual_hull_slices"): hull.mutual_hull_slices,
         (scanline, "scanline_lengths"): scanline.scanline_lengths,
-        (labels, "persistent_components"): labels.persistent_components,
         # Python wrappers, recorded for their arguments (a kernel other kernels call cannot be replaced)
         (orientations, "blocked_intervals"): orientations.blocked_intervals,
         (orientations, "allowed_measures"): orientations.allowed_measures,
@@ -114,14 +112,11 @@ def test_lattice_kernel_bodies(monkeypatch):
     calls = {key: _recorded(monkeypatch, *key, most=2) for key in kernels}
     asp = SeSP(n=2, opening=math.radians(150))
     grid = Grid(12, nphi=4)
-    analyze(asp, grid, segments=12, keep=["classes", "topology"])
+    analyze(asp, grid, segments=12, keep=["classes"])
     scan(asp, grid, segments=12, engine="direct")
     scanline_excluded_area(asp, segments=12, nphi=4, rows=8)
     blocked_orientations(asp, 0.3, 0.1, segments=12)
     allowed_orientations(asp, [0.3, 0.9], [0.1, 0.2], segments=12)
-    two_bodies = np.zeros((10, 13), bool)  # joined by a neck one node wide: the persistence rule's case
-    two_bodies[1:6, 1:6] = two_bodies[4:9, 7:12] = two_bodies[4, 6] = True
-    assert components(two_bodies).count == 2
     for key, kernel in kernels.items():
         assert calls[key], f"{key[1]} was not called"
         for args in calls[key]:

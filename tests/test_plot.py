@@ -47,6 +47,19 @@ def sweep_ds(tmp_path_factory):
     return xr.load_dataset(run(path, workers=1, progress=False))
 
 
+@pytest.fixture(scope="module")
+def topology_ds(tmp_path_factory):
+    """A collected sweep that kept the certified count (coarse, so it takes seconds)."""
+    import xarray as xr
+
+    folder = tmp_path_factory.mktemp("topology")
+    text = SMALL.format(out=folder / "out").replace("stop = 120, step = 30", "stop = 270, step = 60")
+    text = text.replace('keep = ["excluded_area", "classes"]', 'keep = ["topology"]\nresolution = 0.05')
+    path = folder / "s.toml"
+    path.write_text(text)
+    return xr.load_dataset(run(path, workers=1, progress=False))
+
+
 def _save(fig_or_ax, path):
     fig = getattr(fig_or_ax, "figure", fig_or_ax)
     fig.savefig(path, dpi=60)
@@ -93,45 +106,38 @@ def test_curves_shade_their_error_bars(sweep_ds, tmp_path):
     assert pale_pixels(sweep_ds) < 50 < pale_pixels(widened)
 
 
-def test_topology_plot(sweep_ds, tmp_path):
-    assert_not_blank(_save(plot.topology_plot(sweep_ds), tmp_path / "t.png"))
+@pytest.mark.slow
+def test_topology_plot(topology_ds, tmp_path):
+    fig = plot.topology_plot(topology_ds)
+    top = fig.axes[0]
+    assert top.get_title() == "certified at resolution 0.05 b"
+    assert [list(line.get_ydata()) for line in top.lines][:1] == [topology_ds.excluded_components.sel(n=2).values.tolist()]
+    ticks = [t for t in top.get_yticks() if top.get_ylim()[0] <= t <= top.get_ylim()[1]]
+    assert ticks and all(float(t).is_integer() for t in ticks)
+    assert_not_blank(_save(fig, tmp_path / "t.png"))
 
 
-def _transitions(lens_ends):
-    """A transitions dataset of two synthetic components: a body at every opening and, where Ψ is below
-    ``lens_ends`` (degrees), a lens marked unresolved (at the floor)."""
-    from sesp.maps import ExcludedMap, MapComponent, _transitions_dataset
+def test_transitions_plot_shades_brackets_marks_undecided_counts_and_names_the_particle(tmp_path):
+    from sesp.certified import Certified, CertifiedComponent
+    from sesp.topology import Transition, Transitions
 
-    def component(area, floor_limited):
-        return MapComponent(area, 0.1, (0.0, 1.0, -0.5, 0.5), False, np.zeros(1), np.zeros(1), np.full(1, 0.01),
-                            floor_limited=floor_limited)  # fmt: skip
+    def found(low, high, depths):
+        parts = [CertifiedComponent(1, d, 0.1, 0.2, (0.0, 1.0, -0.5, 0.5)) for d in depths]
+        return Certified(low, high, 1e-5, 1e-3, 2e-6, parts)
 
-    maps = {}
-    for degrees in (0.0, 170.0, 175.0, 177.5, 180.0):
-        parts = [component(1.0 - degrees / 200, False)] + ([component(1e-4, True)] if degrees < lens_ends else [])
-        found = ExcludedMap(parts, floor=1e-4, base_cells=32, reach=2.0, positions=1, finest=1e-4)
-        maps[math.radians(degrees)] = (found, 1e-4)
-    return _transitions_dataset(maps, [(math.radians(175.0), math.radians(177.5), 1e-4)], 1e-4, 32)
-
-
-def test_map_transitions_plot_shades_brackets_and_hollows_unresolved_components(tmp_path):
-    results = {"32 cells": _transitions(176.0), "33 cells": _transitions(176.0)}
-    fig = plot.map_transitions_plot(results, zoom=(170, 181), reference=("lens", lambda psi: np.pi - psi))
+    counts = {math.radians(d): found(*c) for d, c in
+              [(0, (1, 1, [0.9])), (90, (2, 2, [0.9, 0.3])), (170, (2, 3, [0.5, 0.01])), (180, (0, 0, []))]}  # fmt: skip
+    rad = sorted(counts)
+    changes = [Transition(rad[i], rad[i + 1], counts[rad[i]], counts[rad[i + 1]]) for i in range(3)]
+    result = Transitions(counts, changes, 1e-5, math.radians(5), math.radians(0.3))
+    fig = plot.transitions_plot(result, family=SeSP(n=4))
     top, zoomed = fig.axes[0], fig.axes[1]
-    assert zoomed.get_xlim() == (170, 181) and top.get_xlim()[1] == 190.0  # last with a component + 10
-    assert [list(line.get_ydata()) for line in top.lines] == [[2, 2, 2, 1, 1]] * 2
-    assert len(top.patches) == 2  # one bracket per search
-    assert [p.get_hatch() for p in top.patches] == [None, None]
-    finer = _transitions(176.0)
-    finer["transition_floor"] = finer.transition_floor / 10  # as map_transitions(finer=...) marks it
-    again = plot.map_transitions_plot({"32 cells": finer}, zoom=None)
-    assert [p.get_hatch() for p in again.axes[0].patches] == ["////"]
-    assert "bracket, maps at a finer floor" in [t.get_text() for t in again.axes[0].get_legend().get_texts()]
-    hollow = [line for line in fig.axes[2].lines if line.get_markerfacecolor() == "none"]
-    assert [len(line.get_xdata()) for line in hollow] == [3, 3]  # the lens at 0, 170 and 175 degrees
-    (dashed,) = [line for line in fig.axes[2].lines if line.get_linestyle() == "--"]
-    assert np.allclose(dashed.get_ydata(), np.pi - np.radians(dashed.get_xdata()))  # the reference, to 180 deg
-    assert dashed.get_xdata()[-1] == 180.0
+    assert zoomed.get_xlim() == (165.0, 181.0)
+    assert list(top.lines[0].get_ydata()) == [1, 2, 2, 0]
+    assert len(top.patches) == 3  # one bracket per change
+    assert len(top.collections[0].get_segments()) == 1  # the undecided count at 170°, drawn as its bracket
+    assert fig._suptitle.get_text().startswith("n = 4: excluded components at resolution 1e-05 b")
+    assert "undecided: the bracket" in [t.get_text() for t in top.get_legend().get_texts()]
     assert_not_blank(_save(fig, tmp_path / "m.png"))
 
 
@@ -140,14 +146,14 @@ def test_map_grid_from_sweep(sweep_ds, tmp_path):
 
 
 @pytest.mark.slow
-def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys):
+def test_cli_plot_and_figures(sweep_ds, tmp_path, capsys, topology_ds):
     from sesp import save
 
     assert main(["plot", "gallery", "-o", str(tmp_path / "gallery.png")]) == 0
     assert_not_blank(tmp_path / "gallery.png")
     results = tmp_path / "results"
     for name in ("asp_opening", "exponent_opening_orientation"):
-        save(sweep_ds.sel(n=2) if name == "asp_opening" else sweep_ds, results / name / f"{name}.nc")
+        save(topology_ds.sel(n=2) if name == "asp_opening" else sweep_ds, results / name / f"{name}.nc")
     assert main(["figures", str(results), "-o", str(tmp_path / "figs")]) == 0
     written = sorted(p.name for p in (tmp_path / "figs").iterdir())
     assert written == [
@@ -197,10 +203,6 @@ def test_panels_colour_bar_spans_the_drawn_phi_and_counts_have_integer_ticks(swe
     assert len(bar) == 1 and bar[0].get_ylim() == (0.0, 180.0)
     darkest = [line.get_color() for line in fig.axes[5].lines]
     assert all(sum(matplotlib.colors.to_rgb(c)) < 2.7 for c in darkest)  # no near-white line on white
-    plt.close(fig)
-    top = plot.topology_plot(sweep_ds).axes[0]
-    ticks = [t for t in top.get_yticks() if top.get_ylim()[0] <= t <= top.get_ylim()[1]]
-    assert ticks and all(float(t).is_integer() for t in ticks)
     plt.close("all")
 
 

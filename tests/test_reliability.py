@@ -161,7 +161,7 @@ def test_disk_full_leaves_no_file_taken_as_finished(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(
         SMALL.format(out=tmp_path / "out").replace(
-            'keep = ["excluded_area", "classes", "topology"]', 'keep = ["excluded_area", "classes", "allowed"]'
+            'keep = ["excluded_area", "classes"]', 'keep = ["excluded_area", "classes", "allowed"]'
         )
     )
     proc = _sweep_process(path, stderr=subprocess.PIPE, preexec_fn=_limit_file_size)
@@ -340,7 +340,7 @@ print(json.dumps({"traced": traced, "rise": rise}))
         (1024, 1, "allowed", "scan"),  # one large slice: working buffers are several times the field
         (1024, 1, "allowed,crossings,entangled", "scan"),
         (384, 48, "allowed", "scan"),  # one chunk of slices and their mirror images
-        (512, 8, "excluded_area,classes,topology", "analyze"),
+        (512, 8, "excluded_area,classes", "analyze"),
         (384, 16, "allowed,entangled,classes", "analyze"),
     ],
 )

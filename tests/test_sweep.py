@@ -71,7 +71,8 @@ def test_radians_and_degrees_name_the_same_points(tmp_path):
         (("step = 30", "step = -30"), ["step > 0"]),
         (("segments = 24", "segments = 2.5"), ["integers"]),
         (("nx = 24", "nx = 2"), ["nx"]),
-        (('"topology"]', '"topology", "pictures"]'), ["keep"]),
+        (('"classes"]', '"classes", "pictures"]'), ["keep"]),
+        (('"classes"]', '"classes"]\nresolution = -1'), ["resolution", "[1e-9, 1] b"]),
         (("nx = 24", "nx = 24 24"), ["not valid TOML"]),
     ],
 )
@@ -89,7 +90,7 @@ def test_run_collects_labelled_dataset_and_skips_finished_points(tmp_path):
     path = write_sweep(tmp_path, SMALL.format(out=tmp_path / "out"))
     target = run(path, workers=1, progress=False)
     ds = xr.open_dataset(target)
-    sizes = {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "component": 4, "k": 8, "order": 5}
+    sizes = {"n": 2, "opening": 4, "phi": 16, "y": 24, "x": 24, "k": 8, "order": 5}
     assert dict(ds.sizes) == sizes  # k: spectrum orders 0..(nphi - 1) // 2; order: k = 1, 2, 3, 4, 6
     np.testing.assert_array_equal(ds.k, np.arange(8))
     assert ds.excluded_area.dims == ("n", "opening", "phi")

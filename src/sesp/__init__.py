@@ -16,7 +16,6 @@ from .dataset import SespFileError, cell_area, grid_of, pair_of
 from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
 from .grid import Grid
 from .io import load, save
-from .maps import ExcludedMap, excluded_map, map_transitions, widest_window
 from .measures import (
     closed_excluded_area,
     convex_excluded_area,
@@ -29,22 +28,13 @@ from .measures import (
     shifted_excluded_area,
     smooth_excluded_area,
 )
-from .orientations import allowed_orientations, blocked_orientations
+from .orientations import allowed_orientations, blocked_orientations, widest_window
 from .pair import Pair
 from .reductions import Reduction
 from .regions import CLASSES, classify, position_summary, summarize
-from .report import describe, format_result
+from .report import describe
 from .shape import Polyline, SeSP
-from .topology import (
-    AxisProfile,
-    Components,
-    axis_profile,
-    axis_transitions,
-    components,
-    excluded_components,
-    find_transitions,
-    state_components,
-)
+from .topology import LatticeComponents, Transitions, lattice_components, transitions
 
 __version__ = version.__version__
 
@@ -81,23 +71,14 @@ __all__ = [
     "position_summary",
     "allowed_orientations",
     "blocked_orientations",
+    "widest_window",
     # topology
     "certified_components",
     "Certified",
-    "components",
-    "excluded_components",
-    "state_components",
-    "find_transitions",
-    "axis_profile",
-    "axis_transitions",
-    # adaptive maps, exact in φ
-    "excluded_map",
-    "map_transitions",
-    "widest_window",
-    "ExcludedMap",
-    "Components",
-    "AxisProfile",
-    "format_result",
+    "transitions",
+    "Transitions",
+    "lattice_components",
+    "LatticeComponents",
     # files and datasets
     "save",
     "load",

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from .certified import BASE, RESOLUTION, certified_components
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
@@ -20,16 +21,15 @@ from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
-from .topology import excluded_components
 from .units import AREA, DENSITY, LENGTH
 from .virial import third_virial
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 
 KEEP = ("excluded_area", "classes", "topology", "phases", "third_virial", "allowed", "crossings", "entangled")
-SCALAR_KEEP = ("excluded_area", "phases", "third_virial")  # what needs no pass over the lattice
+SCALAR_KEEP = ("excluded_area", "topology", "phases", "third_virial")  # what needs no pass over the lattice
 FIELD_KEEP = ("allowed", "crossings", "entangled")
-COMPONENTS_KEPT = 4  # areas of the largest excluded components stored
+COMPONENTS_KEPT = 4  # depths and areas of the deepest excluded components stored
 PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "classes")
 # Bytes per (x, y) position held by the position summary's running sums, its outputs and component labels.
 SUMMARY_BYTES_PER_POSITION = 64
@@ -50,7 +50,7 @@ def check_memory(grid: Grid, keep, limit: int | None = None) -> None:
     fields = tuple(k for k in FIELD_KEEP if k in keep)
     computed = ("allowed",) + ("crossings",) * ("crossings" in keep)
     computed += ("entangled",) * ("entangled" in keep or "classes" in keep)
-    per_position = SUMMARY_BYTES_PER_POSITION if ("classes" in keep or "topology" in keep) else 0
+    per_position = SUMMARY_BYTES_PER_POSITION if "classes" in keep else 0
     grid.check_memory(fields, limit, working_bytes(grid, computed, per_position))
 
 
@@ -72,6 +72,7 @@ def analyze(
     other=None,
     segments: int = DEFAULT_SEGMENTS,
     keep=("excluded_area",),
+    resolution: float = RESOLUTION,
     engine: str = "raster",
     memory_limit: int | None = None,
     progress: bool = False,
@@ -106,11 +107,14 @@ def analyze(
           and ``orientation_order`` over (y, x), and the entangled area
           ``entangled_area(phi)`` and ``mean_entangled_area`` (b²) (runs the
           entanglement test);
-        * ``"topology"``: ``excluded_components`` (robust count) and
-          ``component_area(component)`` (b², largest first, NaN-padded to
-          ``COMPONENTS_KEPT``) and ``component_radius(component)`` (inscribed
-          radius on the lattice, b: below ``RESOLVED_PEAK`` node spacings a
-          component is at the grid's reach);
+        * ``"topology"``: the certified count of excluded components at
+          ``resolution`` (:func:`sesp.certified_components`, exact in φ, no
+          lattice): ``excluded_components`` and ``excluded_components_high``
+          (the bracket; equal where decided), and per component, deepest
+          first, NaN-padded to ``COMPONENTS_KEPT``: ``component_depth`` (b, a
+          certified lower bound on its inscribed radius), ``component_area``
+          (b², its certified cells: a lower bound) and
+          ``component_area_bound`` (b², an upper bound);
         * ``"phases"``: the first ordering transition of the isotropic state in
           second-virial theory (:func:`sesp.onsager.first_transition`):
           ``transition_order`` (k, 0: none), ``transition_density`` and
@@ -123,6 +127,8 @@ def analyze(
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}
         As in :func:`sesp.scan`.
+    resolution : float
+        b: the resolution ε of the topology count (kept "topology").
     memory_limit : int, optional
         Bytes the stored fields may take (see :func:`sesp.scan`).
     progress : bool
@@ -136,7 +142,7 @@ def analyze(
     Examples
     --------
     >>> from sesp import Grid, SeSP, analyze
-    >>> ds = analyze(SeSP(n=2, opening=1.0), Grid(32, nphi=16), segments=32, keep=["classes", "topology"])
+    >>> ds = analyze(SeSP(n=2, opening=1.0), Grid(32, nphi=16), segments=32, keep=["topology"], resolution=1e-3)
     >>> int(ds.excluded_components)
     2
     """
@@ -154,7 +160,7 @@ def analyze(
             **AREA, long_name="orientation-averaged entangled area A_ent"
         )
     if "topology" in keep:
-        _add_components(ds)
+        _add_components(ds, pair, resolution)
     if "phases" in keep:
         _add_phases(ds)
     if "third_virial" in keep:
@@ -234,22 +240,22 @@ def _add_phases(ds):
     ds["continuous"] = xr.DataArray(int(found["continuous"]), attrs={"units": "1", "long_name": "1: continuous"})
 
 
-def _add_components(ds):
-    """The robust count of excluded components and their areas, in place."""
-    comps = excluded_components(ds)
-    areas = np.full(COMPONENTS_KEPT, np.nan)
-    areas[: min(comps.count, COMPONENTS_KEPT)] = comps.areas[:COMPONENTS_KEPT]
-    radii = np.full(COMPONENTS_KEPT, np.nan)
-    spacing = float(ds.x[1] - ds.x[0])  # b: the lattice's node spacing, the unit of the distances it measures
-    radii[: min(comps.count, COMPONENTS_KEPT)] = comps.peaks[:COMPONENTS_KEPT] * spacing
+def _add_components(ds, pair, resolution):
+    """The certified count of excluded components, its bracket and the deepest components, in place."""
+    found = certified_components(pair, resolution=resolution, base=BASE)
+    kept = found.components[:COMPONENTS_KEPT]
+    attrs = {"units": "1", "resolution": resolution, "resolution_units": "b"}
     ds["excluded_components"] = xr.DataArray(
-        comps.count, attrs={"long_name": "robust count of excluded components", "units": "1"}
+        found.low, attrs={**attrs, "long_name": "excluded components at the resolution (low end of the bracket)"}
     )
-    ds["component_area"] = xr.DataArray(
-        areas, dims="component", attrs={**AREA, "long_name": "areas of the excluded components, largest first"}
+    ds["excluded_components_high"] = xr.DataArray(
+        found.high, attrs={**attrs, "long_name": "excluded components at the resolution (high end of the bracket)"}
     )
-    ds["component_radius"] = xr.DataArray(
-        radii,
-        dims="component",
-        attrs={**LENGTH, "long_name": "inscribed radius of each excluded component on the lattice"},
-    )
+    for name, unit, what, long_name in (
+        ("component_depth", LENGTH, "depth", "certified depth (inscribed radius, lower bound) of each component"),
+        ("component_area", AREA, "area", "certified area (lower bound) of each excluded component"),
+        ("component_area_bound", AREA, "area_bound", "upper bound on the area of each excluded component"),
+    ):
+        values = np.full(COMPONENTS_KEPT, np.nan)
+        values[: len(kept)] = [getattr(c, what) for c in kept]
+        ds[name] = xr.DataArray(values, dims="component", attrs={**unit, "long_name": f"{long_name}, deepest first"})

@@ -23,20 +23,28 @@ the particles' reach box, refined by halving). Each cell is
 * **undecided** otherwise.
 
 Every component of E_ε lies in one component of in ∪ undecided cells (a
-candidate), and every certified part (in-cells joined where their certified
-disks meet) lies in one component of E_ε. So a candidate holding parts holds
-at least one component of E_ε: ``low`` counts those candidates; ``high`` adds
-up their parts (and 1 for a candidate without any). Cells are split only where
-an undecided cell could change the bracket: between two parts of one
-candidate, in a candidate without a part, or on a candidate's rim where it may
-be deeper than ε. Refinement stops at cells of side ε/4.
+candidate), and every certified part (in-cells joined where they touch or
+where their certified disks meet) lies in one component of E_ε. So a
+candidate holding parts holds at least one component of E_ε and at most as
+many as its parts: ``low`` counts those candidates, ``high`` adds up their
+parts (and 1 for a candidate without any). Cells are split only where an
+undecided cell could change the bracket: between two parts of one candidate,
+in a candidate without a part, or on a candidate's rim where it may be deeper
+than ε + rim. Refinement stops at cells of side ε/4.
 
-Resolution of the search. A component is seeded by a part whose certified
-disk reaches ``rim`` (b; default 100 ε, at most half a base cell's half-diagonal) or a quarter of the
-component's certified depth,
-whichever is smaller; thinner parts beside a seeded one are searched only to
-that length, so a component shallower than ε + that rim lying within it of
-another is not separated from it (stated in :attr:`Certified.rim`).
+Closed curves (Ψ = 0) have no end points: the depth certificate lets their
+sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
+
+Resolution of the search. The rims of candidates are searched for hidden
+components down to ``rim`` (b; default 100 ε, at most half a base cell's
+half-diagonal) or a quarter of the candidate's certified depth, whichever is
+smaller: a component shallower than ε + that length lying inside the
+undecided rim of another is not found (stated in :attr:`Certified.rim`).
+
+The count is that of the polylines. Where ε is below their departure from
+the smooth curves (:attr:`sesp.Pair.departure`), a component or a join
+thinner than the departure may be the polylines' own: more segments resolve
+it (components shallower than the departure are marked †).
 """
 
 from __future__ import annotations
@@ -297,6 +305,11 @@ class _Engine:
             wider = np.maximum(3 * h[thin], self.rim)
             ok = self._cover(x[thin], y[thin], self.eps + wider, steps[thin]) == 1
             radius[thin[ok]] = wider[ok]
+            # a disk of the rim's radius makes a part a seed of its own: try it where the wider disk failed
+            short = thin[~ok & (wider > self.rim)]
+            if len(short):
+                ok = self._cover(x[short], y[short], np.full(len(short), self.eps + self.rim), steps[short]) == 1
+                radius[short[ok]] = self.rim
         return deep, radius, ran_out
 
     def _cover(self, x, y, r, steps):
@@ -348,14 +361,9 @@ class _Engine:
         und, inn = status == UNDECIDED, status == IN
         U = cell_kernels.components(status != OUT, ea, eb)
         parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, ea, eb)
-        anywhere = np.maximum(parts, 0)
-        significant = np.zeros(len(L.x), bool)
-        significant[parts[inn & (L.radius >= self.rim)]] = True
-        has_significant, has_part = np.zeros(len(L.x), bool), np.zeros(len(L.x), bool)
-        has_significant[U[inn & significant[anywhere]]] = True
+        has_part = np.zeros(len(L.x), bool)
         has_part[U[inn]] = True
-        # seeds: the significant parts, or every part of a component without a significant one
-        seed = np.where(inn & (significant[anywhere] | ~has_significant[np.maximum(U, 0)]), parts, -1)
+        seed = np.where(inn, parts, -1)  # every certified part: two in one candidate are refined between
         between = und & cell_kernels.corridors(seed, und | inn, ea, eb, 2)
         empty = und & ~has_part[np.maximum(U, 0)]
         depth = self._depths(L, status, U)

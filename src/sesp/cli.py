@@ -193,175 +193,109 @@ def _cmd_info(args) -> int:
 
 
 def _add_topology(sub):
-    p = sub.add_parser("topology", help="component counts over the opening Ψ and where they change")
+    p = sub.add_parser(
+        "topology",
+        help="the certified count of excluded components at one opening, or over the opening Ψ and where it changes",
+    )
     _add_shape_args(p)
+    p.add_argument(
+        "--opening",
+        type=float,
+        default=None,
+        metavar="DEG",
+        help="one opening (degrees): its excluded components, certified at --resolution and exact in φ",
+    )
     p.add_argument(
         "--opening-range",
         nargs=2,
         type=float,
         default=(0.0, 360.0),
         metavar=("LOW", "HIGH"),
-        help="Ψ range in degrees (default 0 360)",
+        help="without --opening: the openings searched, degrees (default 0 360)",
     )
-    p.add_argument(
-        "--opening",
-        type=float,
-        default=None,
-        metavar="DEG",
-        help="one opening (degrees): the excluded set's components, certified at --resolution and exact in φ",
-    )
-    p.add_argument(
-        "--map",
-        action="store_true",
-        help="count excluded components on adaptive maps exact in φ (sesp.maps) instead of the grid",
-    )
-    p.add_argument("--json", action="store_true", help="print one JSON object (implies --map)")
     p.add_argument(
         "--resolution",
         type=float,
-        default=1e-5,
-        metavar="EPS",
-        help="--opening: count the components of the excluded set eroded by EPS, b (default 1e-5)",
-    )
-    p.add_argument(
-        "--base", type=int, default=None, help="cells along each side at first (default 64 with --opening, 128 maps)"
-    )
-    p.add_argument("--floor", type=float, default=1e-7, help="adaptive map: smallest cell, b (default 1e-7)")
-    p.add_argument("--step", type=float, default=5.0, help="Ψ step of the first pass, degrees (default 5)")
-    p.add_argument(
-        "--finer",
-        nargs=2,
-        type=float,
-        action="append",
-        default=[],
-        metavar=("LOW", "HIGH"),
-        help="adaptive maps over Ψ: search the steps in LOW..HIGH degrees at a tenth of --floor, and each "
-        "step beside them where the two floors disagree (may be given again)",
-    )
-    p.add_argument(
-        "--maps-folder",
-        type=Path,
         default=None,
-        metavar="DIR",
-        help="adaptive maps: save each map in DIR as it is made; the same command run again reads "
-        "them (a Ψ range resumes where it stopped)",
+        metavar="EPS",
+        help="count the components of the excluded set eroded by EPS, b (default 1e-5)",
     )
+    p.add_argument("--base", type=int, default=None, help="cells along each side at first (default 64)")
+    p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees "
+                   "(default 5)")  # fmt: skip
+    p.add_argument("--width", type=float, default=None, help="each change bracketed at least this narrowly, "
+                   "degrees (default 0.3)")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print one JSON object (lengths in b, angles in degrees)")
     p.add_argument(
         "--plot",
         type=Path,
         default=None,
         metavar="PNG",
-        help="save a figure: the components in colour (--opening) or, with --map, the counts and areas over Ψ "
-        "with the changes' brackets",
-    )
-    p.add_argument(
-        "--quantity",
-        choices=("excluded", "allowed", "entangled"),
-        default="excluded",
-        help="excluded: excluded positions in the plane (default); allowed / entangled: those states "
-        "in (x, y, φ), φ periodic",
-    )
-    p.add_argument("--nx", type=int, default=256, help="cells along x and y (default 256)")
-    p.add_argument("--nphi", type=int, default=1024, help="orientations (default 1024)")
-    p.add_argument(
-        "--tolerance",
-        type=float,
-        default=TOLERANCE_DEG,
-        help=f"bracket half-width, degrees (default {TOLERANCE_DEG:.3g}, i.e. 0.02 rad)",
-    )
-    p.add_argument("--refine", type=int, default=2, help="second resolution = this times the first (1: none)")
-    p.add_argument(
-        "--axis",
-        type=int,
-        default=None,
-        metavar="NODES",
-        help="also count the excluded set's components along the symmetry axis, exact in φ, "
-        "on NODES axis nodes (follows thin components the grid loses; slower)",
+        help="save a figure: the components in colour (--opening) or the count over Ψ with the changes' brackets",
     )
     p.set_defaults(func=_cmd_topology)
 
 
-def _positive_degrees(name: str, value: float, low: float, high: float) -> float:
-    """A finite angle in degrees in [low, high], as radians."""
-    if not (math.isfinite(value) and low <= value <= high):
-        raise ValueError(f"{name} must be a number of degrees in [{low:g}, {high:g}], got {value}")
-    return math.radians(value)
+def _topology_defaults(args):
+    """Fill in the defaults left None by the parser (they live in sesp.certified and sesp.topology, which the
+    parser does not import: ``sesp --help`` stays fast)."""
+    from .certified import BASE, RESOLUTION
+    from .topology import STEP, WIDTH
+
+    args.resolution = RESOLUTION if args.resolution is None else args.resolution
+    args.base = BASE if args.base is None else args.base
+    args.step = math.degrees(STEP) if args.step is None else args.step
+    args.width = math.degrees(WIDTH) if args.width is None else args.width
 
 
 def _cmd_topology(args) -> int:
-    if args.finer and (args.opening is not None or not (args.json or args.map)):
-        raise ValueError("--finer refines a search on adaptive maps over Ψ: give it with --map or --json, "
-                         "not with --opening")  # fmt: skip
+    _topology_defaults(args)
+    if not (math.isfinite(args.resolution) and 1e-9 <= args.resolution <= 1.0):
+        raise ValueError(f"--resolution must be a length in [1e-9, 1] b, got {args.resolution}")
+    if not 4 <= args.base <= 4096:
+        raise ValueError(f"--base must be an integer in [4, 4096] (cells), got {args.base}")
+    _check_figure_path(args.plot)
     if args.opening is not None:
         return _topology_at_opening(args)
-    if args.json or args.map:
-        return _topology_on_maps(args)
-    if args.plot is not None:
-        raise ValueError("--plot draws adaptive maps: give --opening DEG or --map with it")
-    from .grid import Grid
-    from .report import format_result
-    from .topology import axis_transitions, find_transitions
+    import json
+
+    from .topology import transitions
 
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
         raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
-    tolerance = _positive_degrees("--tolerance", args.tolerance, 1e-6, 90.0)
     step = _positive_degrees("--step", args.step, 1e-4, 360.0)
-    if args.axis is not None and args.axis < 16:
-        raise ValueError(f"--axis must be an integer >= 16 (axis nodes), got {args.axis}")
+    width = _positive_degrees("--width", args.width, 1e-6, 90.0)
     family = _shape_from_args(args, 0.0)
     _announce_compile()
-    result = find_transitions(
-        family,
-        args.quantity,
-        (math.radians(lo), math.radians(hi)),
-        grid=Grid(args.nx, nphi=args.nphi),
-        segments=args.segments,
-        step=step,
-        tolerance=tolerance,
-        refine_factor=args.refine,
-        progress=not args.quiet,
-    )
-    print(format_result(result, family))
-    if args.axis is not None:
-        axis = axis_transitions(
-            family,
-            (math.radians(lo), math.radians(hi)),
-            nodes=args.axis,
-            segments=args.segments,
-            step=step,
-            tolerance=tolerance,
-            progress=not args.quiet,
-        )
-        print()
-        print(format_result(axis))
+    found = transitions(
+        family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
+        base=args.base, segments=args.segments, progress=not args.quiet,
+    )  # fmt: skip
+    found.label = f"n = {family.n:g}, m = {family.m:g}, aspect {family.aspect:g}, {args.segments} segments"
+    if args.json:
+        print(json.dumps({"n": family.n, "m": family.m, "aspect": family.aspect, "segments": args.segments,
+                          "base": args.base, **found.to_dict()}))  # fmt: skip
+    else:
+        print(found)
+    _save_map_plot(args.plot, "transitions_plot", found, family=family)
     return 0
-
-
-TOLERANCE_DEG = math.degrees(0.02)
-MAP_TOLERANCE_DEG = math.degrees(0.005)
 
 
 def _topology_at_opening(args) -> int:
     """``sesp topology --opening DEG``: the certified excluded components at resolution ``--resolution``."""
     import json
 
-    from .certified import BASE, certified_components
+    from .certified import certified_components
 
-    if args.quantity != "excluded":
-        raise ValueError(f"--opening counts excluded components only, got --quantity {args.quantity}")
-    if args.maps_folder is not None or args.finer:
-        raise ValueError("--maps-folder and --finer apply to searches over Ψ (--map), not to --opening")
-    _check_figure_path(args.plot)
     particle = _shape_from_args(args, args.opening)
     _announce_compile()
     found = certified_components(
-        particle, resolution=args.resolution, base=BASE if args.base is None else args.base, segments=args.segments,
-        progress=not args.quiet,
-    )  # fmt: skip
+        particle, resolution=args.resolution, base=args.base, segments=args.segments, progress=not args.quiet
+    )
     if args.json:
         print(json.dumps({"n": particle.n, "m": particle.m, "aspect": particle.aspect, "opening_deg": args.opening,
-                          "segments": args.segments, **found.to_dict()}))  # fmt: skip
+                          "segments": args.segments, "base": args.base, **found.to_dict()}))  # fmt: skip
     else:
         print(f"n = {particle.n:g}, m = {particle.m:g}, opening {args.opening:g} deg, {args.segments} segments")
         print(found)
@@ -371,47 +305,11 @@ def _topology_at_opening(args) -> int:
     return 0
 
 
-def _topology_on_maps(args) -> int:
-    """``sesp topology --map / --json``: components of the excluded set on adaptive maps over Ψ."""
-    import json
-
-    from .maps import BASE_CELLS, map_transitions
-    from .report import format_map_transitions
-
-    if args.quantity != "excluded":
-        raise ValueError(f"--opening, --map and --json count excluded components only, got --quantity {args.quantity}")
-    args.base = BASE_CELLS if args.base is None else args.base
-    if not 8 <= args.base <= 4096:
-        raise ValueError(f"--base must be an integer in [8, 4096] (cells), got {args.base}")
-    if not (math.isfinite(args.floor) and 1e-12 <= args.floor <= 1.0):
-        raise ValueError(f"--floor must be in [1e-12, 1] b, got {args.floor}")
-    _check_figure_path(args.plot)
-    _announce_compile()
-    lo, hi = args.opening_range
-    if not (0.0 <= lo < hi <= 360.0):
-        raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
-    tolerance = _positive_degrees(
-        "--tolerance", MAP_TOLERANCE_DEG if args.tolerance == TOLERANCE_DEG else args.tolerance, 1e-6, 90.0
-    )
-    for low, high in args.finer:
-        if not (0.0 <= low < high <= 360.0):
-            raise ValueError(f"--finer must satisfy 0 <= LOW < HIGH <= 360 degrees, got {low} {high}")
-    family = _shape_from_args(args, 0.0)
-    result = map_transitions(
-        family,
-        (math.radians(lo), math.radians(hi)),
-        step=_positive_degrees("--step", args.step, 1e-4, 360.0),
-        tolerance=tolerance,
-        segments=args.segments,
-        base=args.base,
-        floor=args.floor,
-        progress=not args.quiet,
-        folder=args.maps_folder,
-        finer=[(math.radians(low), math.radians(high)) for low, high in args.finer],
-    )
-    print(json.dumps(_transitions_json(result)) if args.json else format_map_transitions(result, family))
-    _save_map_plot(args.plot, "map_transitions_plot", result)
-    return 0
+def _positive_degrees(name: str, value: float, low: float, high: float) -> float:
+    """A finite angle in degrees in [low, high], as radians."""
+    if not (math.isfinite(value) and low <= value <= high):
+        raise ValueError(f"{name} must be a number of degrees in [{low:g}, {high:g}], got {value}")
+    return math.radians(value)
 
 
 def _check_figure_path(path):
@@ -444,45 +342,6 @@ def _save_map_plot(path, kind, found, **kwargs):
     plot.save_figure(fig, path)
     plt.close(fig)
     log.info("figure saved: %s", path)
-
-
-def _changed(result, name, t) -> list:
-    """Numbers of the components (as at that end's opening) that change in transition ``t``."""
-    if name not in result:  # a search saved before it was recorded
-        return []
-    return [int(k) for k in result.component.values[result[name].values[t]]]
-
-
-DEGREE_DIGITS = 9  # decimals of the degrees in JSON output: far below any bracket, above radians' rounding
-
-
-def _transitions_json(result) -> dict:
-    from .report import count_runs
-
-    degrees = result["opening_degrees"].values.round(DEGREE_DIGITS)  # 210, not 210.00000000000003 from radians
-    runs = count_runs(list(range(len(degrees))), result["count"].values)
-    intervals = [{"from_deg": float(degrees[a]), "to_deg": float(degrees[b]), "count": c} for a, b, c, _ in runs]
-    transitions = [
-        {
-            "low_deg": round(float(result.low_degrees[t]), DEGREE_DIGITS),
-            "high_deg": round(float(result.high_degrees[t]), DEGREE_DIGITS),
-            "count_low": int(result.count_low[t]),
-            "count_high": int(result.count_high[t]),
-            "off_axis_low": int(result.off_axis_low[t]),
-            "off_axis_high": int(result.off_axis_high[t]),
-            "unresolved": bool(result.transition_unresolved[t]),
-            "floor": float(result.transition_floor[t]),
-            "changed_low": _changed(result, "changed_low", t),
-            "changed_high": _changed(result, "changed_high", t),
-        }
-        for t in range(result.sizes["transition"])
-    ]
-    return {
-        "intervals": intervals,
-        "transitions": transitions,
-        "floor": result.attrs["floor"],
-        "base_cells": result.attrs["base_cells"],
-    }
 
 
 def _add_sweep(sub):

@@ -15,8 +15,6 @@ Kinds of dataset (attribute ``sesp_format``):
                        plus the point's record)
 ``sesp.sweep``         collected sweep: swept parameters as dimensions
 ``sesp.monte_carlo``   random placements and their A_ex estimate
-``sesp.map``           the excluded set's components on one adaptive map
-                       (``area``, ``inscribed_radius``, ... per ``component``)
 =====================  ======================================================
 
 Scans, summaries and points carry the attributes of the pair
@@ -75,12 +73,6 @@ REQUIRED = {
     "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
     "sesp.point": {"excluded_area": (("phi",), "f")},
     "sesp.sweep": {},
-    "sesp.map": {
-        "area": (("component",), "f"),
-        "inscribed_radius": (("component",), "f"),
-        "touches_floor": (("component",), "b"),
-        "encloses_slivers": (("component",), "b"),
-    },
 }
 FORMATS = tuple(REQUIRED)
 OPTIONAL = {
@@ -88,12 +80,6 @@ OPTIONAL = {
     "entangled": (FIELD_DIMS, "b"),
     "allowed_fraction": (PLANE_DIMS, "f"),
     "classes": (PLANE_DIMS, "i"),
-    "floor_limited": (("component",), "b"),  # a sesp.map's: absent from maps saved before it was kept
-    # a sesp.map's excluded nodes (b), their cell sides (b) and the component (1, 2, ...) each belongs to
-    "node_x": (("node",), "f"),
-    "node_y": (("node",), "f"),
-    "node_cell": (("node",), "f"),
-    "node_component": (("node",), "i"),
 }
 
 LONG_NAMES = {
@@ -118,7 +104,6 @@ TITLES = {
     "sesp.point": "one parameter point of a sesp sweep",
     "sesp.sweep": "collected sesp sweep over particle parameters",
     "sesp.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
-    "sesp.map": "components of the excluded set of a particle pair on an adaptive map, exact in phi",
 }
 # Attributes that record when and how a file was made; they differ between otherwise identical results.
 PROVENANCE = ("history", "date_created")

@@ -14,7 +14,7 @@ from .kernels import orientations
 from .pair import as_pair
 from .shape import DEFAULT_SEGMENTS
 
-__all__ = ["blocked_orientations", "allowed_orientations", "ANGLE_GAP", "SCREEN_SLACK"]
+__all__ = ["blocked_orientations", "allowed_orientations", "widest_window", "ANGLE_GAP", "SCREEN_SLACK"]
 
 # Gaps between blocked-orientation intervals narrower than this (radians)
 # are rounding at shared end points, not allowed orientations.
@@ -71,3 +71,19 @@ def allowed_orientations(particle, x, y, *, other=None, segments: int = DEFAULT_
         pair.vertices1, pair.vertices2, xs.ravel().copy(), ys.ravel().copy(), SCREEN_SLACK, ANGLE_GAP, pair.contact
     )  # owned, writeable copies
     return out.reshape(xs.shape)
+
+
+def widest_window(particle, x, y, *, other=None, segments: int = DEFAULT_SEGMENTS) -> tuple:
+    """(width, middle): the widest window of allowed orientations at each position, exact in φ (radians).
+
+    ``width`` is 0 exactly where the position is excluded (gaps narrower than
+    ``ANGLE_GAP`` count as closed); ``middle`` is the orientation at its centre.
+    ``particle``, ``other``, ``segments`` as in :func:`sesp.scan`; ``x``, ``y``
+    (b) are broadcast together.
+    """
+    pair = as_pair(particle, other, segments)
+    xs, ys = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    width, middle, _ = orientations.widest_windows(
+        pair.vertices1, pair.vertices2, xs.ravel(), ys.ravel(), SCREEN_SLACK, ANGLE_GAP, pair.contact
+    )
+    return width.reshape(xs.shape), middle.reshape(xs.shape)

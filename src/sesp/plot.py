@@ -28,7 +28,8 @@ __all__ = [
     "excluded_area_curve",
     "excluded_area_panels",
     "topology_plot",
-    "map_transitions_plot",
+    "transitions_plot",
+    "certified_map",
     "map_grid",
     "render_figures",
     "figure",
@@ -126,15 +127,15 @@ def _particle_of(ds, particle):
     return None
 
 
-def shape_label(particle) -> str:
-    """A figure title naming the particle: "n = 2, Ψ = 90°" (m and A when they differ from n and 1, D when thick),
-    or "polyline of K vertices"."""
+def shape_label(particle, opening: bool = True) -> str:
+    """A figure title naming the particle: "n = 2, Ψ = 90°" (m and A when they differ from n and 1, D when thick;
+    without Ψ when ``opening`` is False), or "polyline of K vertices"."""
     if particle is None:
         return ""
     if isinstance(particle, SeSP):
         label = f"n = {particle.n:g}" + (f", m = {particle.m:g}" if particle.m != particle.n else "")
         label += f", A = {particle.aspect:g}" if particle.aspect != 1 else ""
-        label += f", Ψ = {math.degrees(particle.opening):.4g}°"
+        label += f", Ψ = {math.degrees(particle.opening):.4g}°" if opening else ""
     else:
         label = f"polyline of {len(particle.vertices)} vertices"
     return label + (f", D = {particle.thickness:g} b" if particle.thickness else "")
@@ -403,15 +404,16 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
 
 
 def topology_plot(ds: xr.Dataset, *, fig=None):
-    """Excluded components and their areas against Ψ, with the changes marked.
+    """Certified excluded components and their areas against Ψ, from a collected sweep that kept "topology".
 
-    ``ds`` is a collected sweep with ``excluded_components`` and
-    ``component_area`` (keep "topology"). A change of the count is drawn
-    solid where every component on both sides is at least ``RESOLVED_PEAK``
-    nodes thick, dotted (grid-limited) otherwise. For n = 2 the exact island
-    area (π − Ψ) − sin Ψ is drawn for comparison.
+    Top: the count (:func:`sesp.certified_components` at the sweep's
+    resolution); where it is undecided the bracket's upper end is drawn
+    dashed. Bottom: the certified area (b², a lower bound) of the two largest
+    components. For n = 2 the exact lens area (π − Ψ) − sin Ψ is drawn for
+    comparison.
     """
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     fig = fig or plt.figure(figsize=(8, 6), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
@@ -420,27 +422,12 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
         series = [(float(n), ds.sel(n=n)) for n in ds.n.values]
     else:
         series = [(float(ds.n) if "n" in ds.coords else None, ds)]
-    from matplotlib.lines import Line2D
-    from matplotlib.ticker import MaxNLocator
-
-    from .topology import RESOLVED_PEAK
-
-    limited_drawn = False
     for i, (n, sub) in enumerate(series):
         label = "" if n is None else f"$n = {n:g}$"
-        counts = sub.excluded_components.values
-        top.step(deg, counts, where="mid", color=f"C{i}", label=label)
-        # the radii in node spacings (files without radii: not resolved)
-        spacing = 2.0 * float(ds.attrs["half_width"]) / int(ds.attrs["nx"])
-        radius = (
-            sub.component_radius.values / spacing if "component_radius" in sub else np.zeros_like(sub.component_area)
-        )
-        thinnest = np.min(np.where(np.isnan(radius), np.inf, radius), axis=1)  # files without radii: not resolved
-        for j in np.flatnonzero(np.diff(counts)):
-            resolved = min(thinnest[j], thinnest[j + 1]) >= RESOLVED_PEAK
-            limited_drawn |= not resolved
-            top.axvline(0.5 * (deg[j] + deg[j + 1]), color=f"C{i}", ls="-" if resolved else ":",
-                        lw=0.9 if resolved else 0.6, alpha=1.0 if resolved else 0.6)  # fmt: skip
+        low, high = sub.excluded_components.values, sub.excluded_components_high.values
+        top.step(deg, low, where="mid", color=f"C{i}", label=label)
+        if np.any(high != low):
+            top.step(deg, high, where="mid", color=f"C{i}", ls="--", lw=0.8, label=f"{label} undecided: upper end")
         areas = sub.component_area.values
         bottom.plot(deg, areas[:, 0], "o-", ms=3, color=f"C{i}", label=f"largest {label}")
         bottom.plot(deg, areas[:, 1], "s--", ms=3, color=f"C{i}", label=f"second {label}")
@@ -448,16 +435,13 @@ def topology_plot(ds: xr.Dataset, *, fig=None):
         psi = np.radians(np.linspace(0, 180, 200))
         bottom.plot(np.degrees(psi), (np.pi - psi) - np.sin(psi), "k:", lw=1,
                     label=r"exact ASP lens $(\pi - \Psi) - \sin \Psi$")  # fmt: skip
+    resolution = ds.excluded_components.attrs.get("resolution")
     top.set(ylabel="excluded components")
+    if resolution is not None:
+        top.set_title(f"certified at resolution {resolution:g} b", fontsize=9)
     top.yaxis.set_major_locator(MaxNLocator(integer=True))
-    handles, _ = top.get_legend_handles_labels()
-    shade = "C0" if len(series) == 1 else "0.3"  # with several n, a change is drawn in its n's colour
-    handles.append(Line2D([], [], color=shade, lw=0.9, label="change, resolved"))
-    if limited_drawn:
-        handles.append(Line2D([], [], color=shade, ls=":", lw=0.6,
-                              label=f"change, grid-limited (a component < {RESOLVED_PEAK:g} nodes thin)"))  # fmt: skip
-    top.legend(handles=handles, frameon=False, fontsize=8)
-    bottom.set(xlabel=PSI_LABEL, ylabel=r"component area ($b^2$)", yscale="symlog")
+    top.legend(frameon=False, fontsize=8)
+    bottom.set(xlabel=PSI_LABEL, ylabel=r"certified component area ($b^2$)")
     bottom.set_yscale("symlog", linthresh=1e-2)
     bottom.legend(frameon=False, fontsize=7)
     bottom.set_xticks(np.arange(0, 361, 45))
@@ -537,61 +521,6 @@ def onsager_plot(ds: xr.Dataset, *, fig=None):
     bottom.set_xticks(np.arange(0, 361, 45))
     top.set_title("isotropic state: second virial coefficient and first instability", fontsize=10)
     return fig
-
-
-def component_map(found, *, ax=None, particle=None, window=None, aspect="equal"):
-    """The components of an adaptive map (:func:`sesp.excluded_map`), each in its own colour.
-
-    Each excluded node is drawn as its cell (cells of every refinement level),
-    outlined in its colour so that cells narrower than a pixel stay visible;
-    the legend gives each component's area, inscribed radius and what it may
-    be an artefact of (:meth:`~sesp.maps.ExcludedMap.limit`). The centres of
-    the certified disks along the allowed channels the map followed
-    (:mod:`sesp.channels`) are drawn as a black dotted path. ``window``
-    (xmin, xmax, ymin, ymax; b) defaults to the components' bounding box,
-    padded. ``particle`` draws the fixed particle in grey for scale. ``aspect``
-    as in matplotlib: "auto" stretches y, to see strips along the axis a
-    thousandth as thick as they are long.
-    """
-    from matplotlib.collections import PatchCollection
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch, Rectangle
-
-    ax = _axes(ax)
-    colors = itertools.cycle(["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"])
-    handles = []
-    for k, (comp, color) in enumerate(zip(found.components, colors), start=1):
-        cells = [Rectangle((x - c / 2, y - c / 2), c, c) for x, y, c in zip(comp.x, comp.y, comp.cell)]
-        # an edge of its own colour keeps cells narrower than a pixel (thin strips at the floor) in sight
-        ax.add_collection(PatchCollection(cells, facecolor=color, edgecolor=color, linewidth=0.6))
-        limit = found.limit(comp)
-        limit = f", unresolved: {limit}" if limit else ""
-        label = f"{k}: area {comp.area:.3g} b$^2$, inscribed {comp.inscribed_radius:.2g} b{limit}"
-        handles.append(Patch(color=color, label=label))
-    if found.disks is not None and len(found.disks):
-        ax.plot(found.disks[:, 0], found.disks[:, 1], ".", color="k", markersize=0.8)
-        label = f"certified allowed channel ({len(found.disks)} disks)"
-        handles.append(Line2D([], [], marker=".", linestyle="", color="k", markersize=5, label=label))
-    if particle is not None:
-        draw_particle(particle, ax, color="0.6", arrow=False, lw=1.0)
-    if window is None and found.count:
-        boxes = np.array([c.bbox for c in found.components])
-        lo_x, hi_x, lo_y, hi_y = boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max()
-        pad = 0.1 * max(hi_x - lo_x, hi_y - lo_y)
-        window = (lo_x - pad, hi_x + pad, lo_y - pad, hi_y + pad)
-    if window is not None:
-        ax.set_xlim(window[0], window[1])
-        ax.set_ylim(window[2], window[3])
-    ax.set_aspect(aspect)
-    ax.set_xlabel("x (b)")
-    ax.set_ylabel("y (b)")
-    plural = "s" if found.count != 1 else ""
-    shape = particle if particle is not None else getattr(found.pair, "particle", None)
-    named = f"{shape_label(shape)}: " if shape is not None else ""
-    ax.set_title(f"{named}{found.count} excluded component{plural} (finest cell {found.finest:.1g} b)", fontsize=9)
-    if handles:
-        ax.legend(handles=handles, fontsize=7, loc="upper right")
-    return ax
 
 
 COMPONENT_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink")
@@ -683,95 +612,58 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     return fig
 
 
-def map_transitions_plot(results, *, zoom=(165.0, 181.0), reference=None, fig=None):
-    """Excluded components on adaptive maps against Ψ (:func:`sesp.map_transitions`), one colour per search.
+def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
+    """The certified count over the opening (:func:`sesp.topology.transitions`), with each change's bracket.
 
-    ``results``: a transitions dataset, or {label: dataset} (one search per
-    base grid, say). Top: the count at every mapped opening, each
-    transition's bracket shaded, with a dotted edge where it is unresolved
-    (``transition_unresolved``: a component that changes in it may be the
-    floor's or the polylines') and hatched where it was found on maps at a
-    finer floor than the search's (``transition_floor``, the ``finer``
-    steps of :func:`sesp.map_transitions`). Bottom: every component's area (b², log
-    scale) at every mapped opening, hollow where it is unresolved. The
-    right-hand column repeats both over ``zoom`` (degrees; None, or a range
-    searched less than three times as wide: no zoom), where the changes
-    near Ψ = π crowd together. Openings past the last one mapped with a
-    component (by more than 10°) are not drawn. ``reference``: (label,
-    function of Ψ in radians giving an area in b²), drawn as a dashed line
-    under the areas (the ASP's exact lens (π − Ψ) − sin Ψ, say).
+    Top: the count at every opening counted (a bar from the bracket's low to
+    its high end where it is undecided), each change's bracket shaded. Bottom:
+    every component's certified depth (b, log scale): how thin a component is
+    when it appears or vanishes. The right-hand column repeats both over
+    ``zoom`` (degrees; None, or a range searched less than three times as
+    wide: no zoom), where the changes near Ψ = π crowd together. ``family``
+    names the particle in the title.
     """
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
     from matplotlib.ticker import MaxNLocator
 
-    if isinstance(results, xr.Dataset):
-        results = {"": results}
-    start = min(float(ds.opening_degrees.min()) for ds in results.values())
-    end = max(_last_nonzero(ds) for ds in results.values()) + 10.0  # beyond the last component: not drawn
+    deg = np.degrees(found.openings)
+    start, end = float(deg[0]), float(deg[-1])
     if zoom is not None and end - start < 3 * (zoom[1] - zoom[0]):
-        zoom = None  # the whole range is about as narrow as the zoom
+        zoom = None
     columns = 1 if zoom is None else 2
     fig = fig or plt.figure(figsize=(5.0 * columns + 1.0, 6.0), layout="constrained")
     axes = np.asarray(fig.subplots(2, columns, sharex="col", squeeze=False))
-    hatched = False
-    for i, (label, ds) in enumerate(results.items()):
-        color = f"C{i}"
-        deg = ds.opening_degrees.values
-        area = ds.area.values
-        unresolved = ds.unresolved.values if "unresolved" in ds else np.zeros(area.shape, dtype=bool)
-        flags = ds.transition_unresolved.values if "transition_unresolved" in ds else np.ones(ds.sizes["transition"])
-        finer = ds.transition_floor.values < ds.attrs["floor"] if "transition_floor" in ds else flags * False
-        hatched |= bool(np.any(finer))
-        for top, bottom in axes.T:
-            top.step(deg, ds["count"].values, where="post", color=color, lw=1.2, label=label or None)
-            for lo, hi, marked, fine in zip(ds.low_degrees.values, ds.high_degrees.values, flags, finer):
-                top.axvspan(lo, hi, color=color, alpha=0.25, ec=color, ls=":" if marked else "-", lw=0.8,
-                            hatch="////" if fine else None)  # fmt: skip
-            shown = ~np.isnan(area)
-            solid = shown & ~unresolved
-            hollow = shown & unresolved
-            rows = np.broadcast_to(deg[:, None], area.shape)
-            bottom.plot(rows[solid], area[solid], "o", ms=3.5, color=color)
-            bottom.plot(rows[hollow], area[hollow], "o", ms=3.5, mfc="none", mec=color, mew=0.8)
-    if reference is not None:
-        label, area_of = reference
-        psi = np.linspace(start, min(end, 180.0), 400)
-        for bottom in axes[1]:
-            bottom.plot(psi, area_of(np.radians(psi)), "k--", lw=0.8, label=label, zorder=0)
-        axes[1, 0].legend(frameon=False, fontsize=7, loc="lower left")
+    counts = [found.counts[o] for o in found.openings]
+    low = np.array([c.low for c in counts])
+    high = np.array([c.high for c in counts])
     for top, bottom in axes.T:
+        top.step(deg, low, where="post", color="C0", lw=1.2)
+        undecided = high > low
+        top.vlines(deg[undecided], low[undecided], high[undecided], color="C3", lw=2)
+        for t in found.changes:
+            top.axvspan(math.degrees(t.low), math.degrees(t.high), color="C1", alpha=0.3, lw=0)
+        for o, c in zip(deg, counts):
+            depths = [comp.depth for comp in c.components]
+            bottom.plot([o] * len(depths), depths, "o", ms=3, color="C0", mfc="C0")
         top.yaxis.set_major_locator(MaxNLocator(integer=True))
         bottom.set_yscale("log")
         bottom.set_xlabel(PSI_LABEL)
     axes[0, 0].set_ylabel("excluded components")
-    axes[1, 0].set_ylabel(r"component area ($b^2$)")
+    axes[1, 0].set_ylabel("certified depth of each component (b)")
     axes[0, 0].set_xlim(start, end)
     if zoom is not None:
         axes[0, 1].set_xlim(*zoom)
-        inside = [ds.area.where((ds.opening_degrees >= zoom[0]) & (ds.opening_degrees <= zoom[1])) for ds in
-                  results.values()]  # fmt: skip
-        low, high = (min(float(a.min()) for a in inside), max(float(a.max()) for a in inside))
-        if np.isfinite(low) and np.isfinite(high):
-            axes[1, 1].set_ylim(low / 2, high * 2)
         axes[0, 1].set_title(f"{zoom[0]:g}°–{zoom[1]:g}°", fontsize=9)
-    handles, _ = axes[0, 0].get_legend_handles_labels()
-    handles += [
-        Line2D([], [], color="0.4", lw=6, alpha=0.25, label="bracket of a change"),
-        *([Patch(fc="0.4", alpha=0.25, hatch="////", label="bracket, maps at a finer floor")] if hatched else []),
-        Line2D([], [], ls="none", marker="o", ms=4, color="0.3", label="component, resolved"),
-        Line2D([], [], ls="none", marker="o", ms=4, mfc="none", mec="0.3", label="component, unresolved"),
+    handles = [
+        Line2D([], [], color="C0", lw=1.2, label="count"),
+        Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"),
+        *([Line2D([], [], color="C3", lw=2, label="undecided: the bracket")] if np.any(high > low) else []),
     ]
     axes[0, 0].legend(handles=handles, frameon=False, fontsize=7)
+    named = f"{shape_label(family, opening=False)}: " if family is not None else ""
+    fig.suptitle(f"{named}excluded components at resolution {found.resolution:g} b", fontsize=10)
     return fig
-
-
-def _last_nonzero(ds) -> float:
-    """Degrees: the last opening mapped with a component, or the first mapped if none has one."""
-    counts = ds["count"].values
-    deg = ds.opening_degrees.values
-    return float(deg[np.flatnonzero(counts)[-1]] if counts.any() else deg[0])
 
 
 FIGURES = {

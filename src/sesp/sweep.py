@@ -41,6 +41,7 @@ the shape keys, in ``[particle]`` or ``[other]``:
 
     [output]                    # optional; default keep = ["excluded_area"]
     keep = ["excluded_area", "classes", "topology"]   # and/or "phases", "third_virial", "allowed" (the field)
+    resolution = 1e-5           # b: the resolution of the topology count (default 1e-5)
 
 The shortest sweep file names its particles alone:
 
@@ -78,6 +79,7 @@ import numpy as np
 import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep, check_memory
+from .certified import RESOLUTION
 from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
 from .fileprobe import probe
 from .grid import Grid
@@ -104,7 +106,7 @@ SCHEMA = {
     },
     "other": {"n": float, "m": float, "aspect": float, "opening": float, "thickness": float, "vertices": list},
     "grid": {"nx": int, "ny": int, "nphi": int},
-    "output": {"keep": list},
+    "output": {"keep": list, "resolution": float},
 }
 REQUIRED = {"particle": ("n", "opening")}
 # What a sweep file may leave out: the output folder (results/<file stem>, beside the file), degrees, this grid
@@ -113,7 +115,7 @@ DEFAULT_ANGLES = "degrees"
 DEFAULT_GRID = {"nx": 128, "nphi": 128}
 MANIFEST = "sweep.json"
 # Version of what a point file holds: points written under another version are recomputed, not mixed in.
-POINT_FORMAT = 3
+POINT_FORMAT = 4
 
 
 class SweepError(ValueError):
@@ -218,6 +220,7 @@ class SweepSpec:
     grid: dict
     keep: tuple
     source: str
+    resolution: float = RESOLUTION
 
     @property
     def dims(self) -> list[str]:
@@ -251,7 +254,7 @@ class SweepSpec:
             particle = {k: values[k] for k in self.particle}
             other = {k[6:]: values[k] for k in axes if k.startswith("other_")} or None
             index = tuple(axes[d].index(values[d]) for d in self.dims)
-            out.append(SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index))
+            out.append(SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index, self.resolution))
         return out
 
 
@@ -268,10 +271,14 @@ class SweepPoint:
     grid: dict
     keep: tuple
     index: tuple = ()
+    resolution: float = RESOLUTION  # b: of the topology count, where kept
 
     def payload(self) -> dict:
         """What the point's results depend on (the input of :attr:`hash`)."""
-        return {"particle": self.particle, "other": self.other, "grid": self.grid, "keep": list(self.keep)}
+        payload = {"particle": self.particle, "other": self.other, "grid": self.grid, "keep": list(self.keep)}
+        if "topology" in self.keep:
+            payload["resolution"] = self.resolution
+        return payload
 
     @property
     def hash(self) -> str:
@@ -315,7 +322,7 @@ def _particle(params: dict):
 
 def point_hash(payload: dict) -> str:
     """Stable 16-hex-digit name of a parameter point (angles in radians)."""
-    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep")}
+    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep", "resolution") if k in payload}
     payload["format"] = POINT_FORMAT
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -379,6 +386,9 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
         keep = check_keep(doc.get("output", {}).get("keep", ["excluded_area"]))
     except ValueError as err:
         raise SweepError(f"{path}: [output] {err}") from None
+    resolution = doc.get("output", {}).get("resolution", RESOLUTION)
+    if not (isinstance(resolution, (int, float)) and not isinstance(resolution, bool) and 1e-9 <= resolution <= 1):
+        raise SweepError(f"{path}: [output] resolution must be a length in [1e-9, 1] b, got {resolution!r}")
     spec = SweepSpec(
         name=_string(path, "name", head.get("name", path.stem)),
         output=_output_folder(path, head.get("output", f"results/{path.stem}"), output),
@@ -387,6 +397,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
         grid=grid,
         keep=keep,
         source=text,
+        resolution=float(resolution),
     )
     _check_name(path, spec.name)
     total = math.prod(len(v) for part in (spec.particle, spec.other or {}) for v in part.values())
@@ -428,7 +439,7 @@ def common_half_width(spec: SweepSpec) -> float:
 
 def compute_point(point: SweepPoint) -> xr.Dataset:
     """The results of one parameter point (:func:`sesp.analyze`), labelled as a sweep point."""
-    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep)
+    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep, resolution=point.resolution)
     # a SeSP is rebuilt from its parameters; a polyline's vertices must stay
     rebuilt = [f"{p}_vertices" for p in ("particle", "other") if out.attrs[f"{p}_kind"] == "SeSP"]
     out = out.drop_vars(rebuilt)
@@ -780,7 +791,7 @@ def _wait_for_others(points, folder, poll=0.2):
 def with_common_box(spec: SweepSpec) -> SweepSpec:
     grid = dict(spec.grid)
     grid["half_width"] = common_half_width(spec)
-    return SweepSpec(spec.name, spec.output, spec.particle, spec.other, grid, spec.keep, spec.source)
+    return SweepSpec(spec.name, spec.output, spec.particle, spec.other, grid, spec.keep, spec.source, spec.resolution)
 
 
 MANIFEST_KEYS = {"name": str, "dims": list, "coords": dict, "points": list, "keep": list, "source": str}

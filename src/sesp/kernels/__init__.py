@@ -3,7 +3,8 @@
 * :mod:`.overlap`: segment-pair tests, the Minkowski raster and the direct engine;
 * :mod:`.hull`: each curve against the other's filled convex hull (entanglement);
 * :mod:`.orientations`: blocked φ intervals at a fixed translation, exact in φ;
-* :mod:`.labels`: robust component labelling by persistence;
+* :mod:`.depth`: lower bounds on the depth of excluded positions, exact in φ;
+* :mod:`.cells`: quadtree leaves' adjacency and their components (the one union-find);
 * :mod:`.common`: the shared jit options and helpers.
 
 Kernels take and return arrays and scalars only, and write into outputs

@@ -18,6 +18,9 @@ that without sampling φ:
   roots the end points stay at least r away, so the parity is constant: one
   chain pair certifies a whole interval of φ, found in closed form.
 
+* A closed curve has no end points: it is stored twice over, and its runs
+  (of fewer segments than the curve) may pass the polyline's first vertex.
+
 :func:`cover` walks around the circle of orientations: at the first φ not yet
 certified it looks for an arc pair with an odd crossing number and end points
 at least r from the other arc (the whole curves first, then runs of 1, 2, 4,
@@ -39,7 +42,7 @@ from numba import njit, prange
 from .common import JIT, point_segment_distance2, sort_first
 from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, chunk_count, sinusoid_roots
 
-MAX_CROSSINGS = 256  # crossings of the two polylines at one φ at most; more and the certificate gives up
+MAX_CROSSINGS = 1024  # crossings of the two stored polylines at one φ at most; more and the certificate gives up
 
 
 @njit(**JIT)
@@ -107,26 +110,46 @@ def _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1):
 
 
 @njit(**JIT)
-def _odd_runs(v1, boxes1, w, boxes2, cross, count):
+def _run(i, half, period, n):
+    """Vertices (i0, i1) of the run of up to 2·half segments about segment i, and whether it can grow no more: an
+    open curve's run is clipped at its ends; a closed curve (``period`` segments, stored twice) has no ends, and
+    its runs grow to ``period`` − 1 segments."""
+    if period:
+        h = min(half, period // 2)
+        return i - h + 1, i + h, h == period // 2
+    i0, i1 = max(0, i - half + 1), min(n, i + half)
+    return i0, i1, i0 == 0 and i1 == n
+
+
+@njit(**JIT)
+def _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2):
     """(i0, i1, j0, j1, margin): the runs of segments (vertices i0..i1 of v1, j0..j1 of w) with an odd number of
     crossings whose ends are farthest from the other run; margin -1 if none: the whole curves, and runs of 1, 2,
-    4, ... segments about each crossing. The widest margin certifies the longest interval of φ."""
+    4, ... segments about each crossing. The widest margin certifies the longest interval of φ. ``p1``, ``p2``:
+    segments of a closed curve, stored twice over (0: open), whose runs may pass its first vertex."""
     n1 = v1.shape[0] - 1
     n2 = w.shape[0] - 1
+    g1 = p1 if p1 else n1
+    g2 = p2 if p2 else n2
     best = -1.0
     bi0 = bi1 = bj0 = bj1 = 0
-    if count % 2 == 1:
-        best = _ends_clearance(v1, boxes1, 0, n1, w, boxes2, 0, n2)
-        bi0, bi1, bj0, bj1 = 0, n1, 0, n2
+    whole = 0
+    for k in range(count):
+        whole += cross[k, 0] < g1 and cross[k, 1] < g2
+    if whole % 2 == 1:
+        best = _ends_clearance(v1, boxes1, 0, g1, w, boxes2, 0, g2)
+        bi0, bi1, bj0, bj1 = 0, g1, 0, g2
     for c in range(count):
         i = cross[c, 0]
         j = cross[c, 1]
+        if (p1 and not (p1 // 2 <= i < p1 // 2 + p1)) or (p2 and not (p2 // 2 <= j < p2 // 2 + p2)):
+            continue  # a copy of a crossing seen in the middle of the stored curves
         half = 1
         while True:
-            i0, i1 = max(0, i - half + 1), min(n1, i + half)
-            j0, j1 = max(0, j - half + 1), min(n2, j + half)
-            if i0 == 0 and j0 == 0 and i1 == n1 and j1 == n2:
-                break
+            i0, i1, full1 = _run(i, half, p1, n1)
+            j0, j1, full2 = _run(j, half, p2, n2)
+            if full1 and full2 and not p1 and not p2:
+                break  # the whole curves, tried above
             inside = 0
             for k in range(count):
                 inside += i0 <= cross[k, 0] < i1 and j0 <= cross[k, 1] < j1
@@ -135,6 +158,8 @@ def _odd_runs(v1, boxes1, w, boxes2, cross, count):
                 if margin > best:
                     best = margin
                     bi0, bi1, bj0, bj1 = i0, i1, j0, j1
+            if full1 and full2:
+                break
             half *= 2
     return bi0, bi1, bj0, bj1, best
 
@@ -240,12 +265,12 @@ def segment_radii(v, cx, cy, near, far):
 
 
 @njit(**JIT)
-def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, tx, ty, r, max_steps):
+def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, max_steps):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 0 if at some φ no pair of runs crosses with its ends that far apart (the
     position may still be that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough.
     ``boxes1``, ``frame_boxes2``: :func:`chunk_boxes` of each curve in its own frame; ``rin2``, ``rout2``:
-    :func:`segment_radii` of curve 2 about its centre."""
+    :func:`segment_radii` of curve 2 about its centre; ``p1``, ``p2``: :func:`prepared`'s periods."""
     near1 = np.empty(v1.shape[0] - 1)
     far1 = np.empty(v1.shape[0] - 1)
     segment_radii(v1, tx, ty, near1, far1)
@@ -269,7 +294,7 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, tx, ty, r, max_steps):
             phi += 1e-9
         if count < 0 or count > MAX_CROSSINGS:
             return 0
-        i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count)
+        i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
         if margin < r:
             return 0
         ahead, behind = _certified_interval(
@@ -301,19 +326,29 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, tx, ty, r, max_steps):
 
 
 @njit(**JIT, parallel=True)
-def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, xs, ys, rs, max_steps, out):
+def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs, ys, rs, max_steps, out):
     """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` with ``max_steps[p]`` intervals. Each position
     is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, xs[p], ys[p], rs[p], max_steps[p])
+        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs[p], ys[p], rs[p], max_steps[p])
+
+
+def _stored(v):
+    """A closed polyline (last vertex = first) stored twice over, so that runs may pass its first vertex, with
+    its number of segments; an open one as it is, with 0."""
+    if len(v) > 3 and np.array_equal(v[0], v[-1]):
+        return np.ascontiguousarray(np.concatenate([v, v[1:]])), len(v) - 1
+    return np.ascontiguousarray(v), 0
 
 
 def prepared(v1, v2):
     """The arguments of :func:`cover` that depend on the curves only."""
+    v1, p1 = _stored(v1)
+    v2, p2 = _stored(v2)
     boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
     rin2, rout2 = np.empty(v2.shape[0] - 1), np.empty(v2.shape[0] - 1)
     segment_radii(v2, 0.0, 0.0, rin2, rout2)
-    return v1, boxes1, v2, chunk_boxes(v2, np.empty((chunk_count(v2), 4))), rin2, rout2
+    return v1, boxes1, v2, chunk_boxes(v2, np.empty((chunk_count(v2), 4))), rin2, rout2, p1, p2
 
 
 def certified_deep(prepared_curves, xs, ys, rs, max_steps):

@@ -1,0 +1,61 @@
+"""Where the certified count of excluded components changes over Ψ, per n and base grid, with the time per n.
+
+Every change is bracketed by bisection (``sesp.transitions``); the table
+says, per n, whether the brackets are identical on every base grid given.
+
+    python benchmarks/transition_tables.py [--n 2 4 8 10] [--bases 64 63 48] [--resolution 1e-5]
+                                           [--from 0] [--to 360] [--step 5] [--width 0.3]
+"""
+
+import argparse
+import math
+import time
+
+from _common import machine, table
+
+from sesp import SeSP
+from sesp.topology import transitions
+
+
+def bracket(found) -> str:
+    return f"{found.low}" if found.low == found.high else f"{found.low}-{found.high}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--n", type=float, nargs="+", default=[2, 4, 8, 10])
+    ap.add_argument("--bases", type=int, nargs="+", default=[64, 63, 48])
+    ap.add_argument("--resolution", type=float, default=1e-5, help="ε, b")
+    ap.add_argument("--from", dest="start", type=float, default=0.0, help="degrees")
+    ap.add_argument("--to", type=float, default=360.0, help="degrees")
+    ap.add_argument("--step", type=float, default=5.0, help="degrees")
+    ap.add_argument("--width", type=float, default=0.3, help="degrees")
+    ap.add_argument("--segments", type=int, default=256)
+    args = ap.parse_args()
+    print(f"machine: {machine()}; resolution {args.resolution:g} b, {args.segments} segments, step {args.step:g}°, "
+          f"brackets at most {args.width:g}° wide\n")  # fmt: skip
+    rows, verdicts = [], []
+    for n in args.n:
+        seen = {}
+        for base in args.bases:
+            start = time.perf_counter()
+            found = transitions(
+                SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
+                width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
+            )  # fmt: skip
+            seconds = time.perf_counter() - start
+            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), bracket(t.before),
+                           bracket(t.after)) for t in found.changes]  # fmt: skip
+            for t in found.changes:
+                rows.append([f"{n:g}", base, f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}",
+                             f"{bracket(t.before)} -> {bracket(t.after)}", t.what().split("; ", 1)[-1][:70]])  # fmt: skip
+            rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", f"{seconds:.0f} s"])
+        same = all(v == seen[args.bases[0]] for v in seen.values())
+        verdicts.append(f"n = {n:g}: brackets {'identical' if same else 'NOT identical'} on bases {args.bases}")
+    table(rows, ["n", "base", "bracket (deg)", "count", "what"])
+    print()
+    print("\n".join(verdicts))
+
+
+if __name__ == "__main__":
+    main()
