@@ -1,5 +1,6 @@
 import json
 import math
+import re
 import subprocess
 import sys
 
@@ -193,3 +194,16 @@ def test_the_command_line_scan_writes_the_file_python_writes(tmp_path, capsys):
     main(["info", str(python)])
     first, second = capsys.readouterr().out.split("sesp.scan file")[1:]
     assert first == second
+
+
+def test_topology_help_states_the_defaults_the_engine_uses():
+    """The parser does not import the engine (start-up stays fast): its help text names the defaults, which
+    must be the engine's."""
+    from sesp.certified import BASE, RESOLUTION
+    from sesp.cli import build_parser
+    from sesp.topology import STEP, WIDTH
+
+    (sub,) = [a for a in build_parser()._actions if hasattr(a, "choices") and a.choices and "topology" in a.choices]
+    stated = {a.dest: float(re.search(r"\(default ([\d.e-]+)\)", a.help)[1]) for a in sub.choices["topology"]._actions
+              if a.dest in ("resolution", "base", "step", "width")}  # fmt: skip
+    assert stated == {"resolution": RESOLUTION, "base": BASE, "step": math.degrees(STEP), "width": math.degrees(WIDTH)}

@@ -590,6 +590,8 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     for k, comp in enumerate(shown):
         color = COMPONENT_COLORS[k % len(COMPONENT_COLORS)]
         label = f"{k + 1}: depth ≥ {comp.depth:.2g} b, area {comp.area:.2g} b$^2$"
+        if not comp.parts:
+            label = f"{k + 1}: no cell certified, area ≤ {comp.area_bound:.2g} b$^2$"
         if comp.tag():
             label += f" ({comp.tag()})"
         handles.append(Patch(color=color, label=label))
@@ -598,8 +600,9 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         ax.set_aspect("auto")
         ax.set_title(f"component {k + 1}", fontsize=8, color=color)
         ax.tick_params(labelsize=6)
-        ax.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))
-        ax.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))
+        for axis in (ax.xaxis, ax.yaxis):  # plain numbers in b: an offset label is easily misread
+            axis.set_major_locator(matplotlib.ticker.MaxNLocator(3))
+            axis.set_major_formatter(matplotlib.ticker.ScalarFormatter(useOffset=False))
     if any(c.depth < c.departure for c in shown):
         handles.append(
             Patch(color="none", label=f"† shallower than the polylines' departure ({shown[0].departure:.1e} b)")
