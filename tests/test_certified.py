@@ -107,3 +107,32 @@ def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_com
     assert png.stat().st_size > 20_000
     assert main(command) == 0
     assert "2 excluded components" not in capsys.readouterr().out  # the text report says it its own way
+
+
+@pytest.mark.parametrize(
+    "particle, other",
+    [(_asp(120), None), (SeSP(n=4, opening=math.radians(100)), Polyline([[-0.6, -0.3], [0.1, 0.2], [0.5, -0.4]]))],
+    ids=["asp", "mixture"],
+)
+def test_certified_cells_are_excluded_within_the_resolution_by_brute_force(particle, other):
+    """Every point of a cell certified in E_ε lies at least ε inside the excluded set: its corners, its centre
+    and the points ε from each of them are excluded exactly in φ (the widest allowed window is 0). The mixture
+    (a SeSP against a bent polyline) has components on no axis."""
+    from sesp.orientations import widest_window
+
+    eps = 1e-2
+    found = certified_components(particle, other, resolution=eps, segments=64)
+    cells = found.cells
+    inn = np.flatnonzero(cells["status"] == 1)
+    assert len(inn) > 50
+    pick = inn[np.random.default_rng(1).choice(len(inn), size=min(300, len(inn)), replace=False)]
+    half = cells["side"][pick] / 2
+    offsets = [(dx, dy) for dx in (-1, 0, 1) for dy in (-1, 0, 1)]
+    turns = np.linspace(0, 2 * math.pi, 8, endpoint=False)
+    xs, ys = [], []
+    for dx, dy in offsets:
+        for r, t in [(0.0, 0.0), *((eps * 0.999, t) for t in turns)]:
+            xs.append(cells["x"][pick] + dx * half + r * math.cos(t))
+            ys.append(cells["y"][pick] + dy * half + r * math.sin(t))
+    width, _ = widest_window(particle, np.array(xs), np.array(ys), other=other, segments=64)
+    assert np.all(width == 0)
