@@ -86,3 +86,8 @@ def test_polylines_have_no_closed_shape():
 def test_keep_is_checked(keep, word):
     with pytest.raises(ValueError, match=word):
         analyze(ASP, GRID, keep=keep)
+
+
+def test_a_bad_resolution_is_refused_before_any_work():
+    with pytest.raises(ValueError, match="resolution must be a length > 0"):
+        analyze(ASP, Grid(4096, nphi=4096), keep=["classes", "topology"], resolution=-1.0)

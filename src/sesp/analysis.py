@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .certified import BASE, RESOLUTION, certified_components
+from .certified import BASE, RESOLUTION, certified_components, check_resolution
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
@@ -147,6 +147,8 @@ def analyze(
     2
     """
     keep = check_keep(keep)
+    if "topology" in keep:
+        check_resolution(resolution)
     pair = as_pair(particle, other, segments)
     grid = resolve_grid(pair, grid)
     check_memory(grid, keep, memory_limit)

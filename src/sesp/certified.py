@@ -190,6 +190,12 @@ class Certified:
         return "\n".join(lines)
 
 
+def check_resolution(resolution) -> None:
+    """Raise ValueError unless ``resolution`` is a finite length > 0 (b)."""
+    if not (isinstance(resolution, int | float | np.floating) and resolution > 0 and math.isfinite(resolution)):
+        raise ValueError(f"resolution must be a length > 0 (b), got {resolution!r}")
+
+
 def certified_components(
     particle,
     other=None,
@@ -213,8 +219,7 @@ def certified_components(
     >>> found.count
     0
     """
-    if not (resolution > 0 and math.isfinite(resolution)):
-        raise ValueError(f"resolution must be a length > 0 (b), got {resolution!r}")
+    check_resolution(resolution)
     rim = RIM_RATIO * resolution if rim is None else rim
     if not (rim >= resolution and math.isfinite(rim)):
         raise ValueError(f"rim must be a length >= resolution ({resolution:g} b), got {rim!r}")
