@@ -47,8 +47,9 @@ def main():
             seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), bracket(t.before),
                            bracket(t.after)) for t in found.changes]  # fmt: skip
             for t in found.changes:
-                rows.append([f"{n:g}", base, f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}",
-                             f"{bracket(t.before)} -> {bracket(t.after)}", t.what().split("; ", 1)[-1][:70]])  # fmt: skip
+                where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
+                change = f"{bracket(t.before)} -> {bracket(t.after)}"
+                rows.append([f"{n:g}", base, where, change, t.what().split("; ", 1)[-1][:70]])
             rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", f"{seconds:.0f} s"])
         same = all(v == seen[args.bases[0]] for v in seen.values())
         verdicts.append(f"n = {n:g}: brackets {'identical' if same else 'NOT identical'} on bases {args.bases}")

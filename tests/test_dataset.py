@@ -33,8 +33,9 @@ def _files(tmp_path):
     files = {
         "scan": save(scan(asp, GRID, segments=16), tmp_path / "scan.nc"),
         "summary": save(summarize(asp, GRID, segments=16), tmp_path / "summary.nc"),
-        "analysis": save(analyze(asp, GRID, segments=16, keep=["classes", "topology"], resolution=1e-2),
-                         tmp_path / "analysis.nc"),
+        "analysis": save(
+            analyze(asp, GRID, segments=16, keep=["classes", "topology"], resolution=1e-2), tmp_path / "analysis.nc"
+        ),
         "mixture": save(analyze(asp, GRID, other=ZED, segments=16), tmp_path / "mixture.nc"),
         "monte_carlo": save(monte_carlo(asp, samples=200, segments=16, seed=1), tmp_path / "mc.nc"),
     }

@@ -111,7 +111,8 @@ def test_topology_plot(topology_ds, tmp_path):
     fig = plot.topology_plot(topology_ds)
     top = fig.axes[0]
     assert top.get_title() == "certified at resolution 0.05 b"
-    assert [list(line.get_ydata()) for line in top.lines][:1] == [topology_ds.excluded_components.sel(n=2).values.tolist()]
+    drawn = [list(line.get_ydata()) for line in top.lines][:1]
+    assert drawn == [topology_ds.excluded_components.sel(n=2).values.tolist()]
     ticks = [t for t in top.get_yticks() if top.get_ylim()[0] <= t <= top.get_ylim()[1]]
     assert ticks and all(float(t).is_integer() for t in ticks)
     assert_not_blank(_save(fig, tmp_path / "t.png"))
@@ -125,8 +126,8 @@ def test_transitions_plot_shades_brackets_marks_undecided_counts_and_names_the_p
         parts = [CertifiedComponent(1, d, 0.1, 0.2, (0.0, 1.0, -0.5, 0.5)) for d in depths]
         return Certified(low, high, 1e-5, 1e-3, 2e-6, parts)
 
-    counts = {math.radians(d): found(*c) for d, c in
-              [(0, (1, 1, [0.9])), (90, (2, 2, [0.9, 0.3])), (170, (2, 3, [0.5, 0.01])), (180, (0, 0, []))]}  # fmt: skip
+    table = [(0, (1, 1, [0.9])), (90, (2, 2, [0.9, 0.3])), (170, (2, 3, [0.5, 0.01])), (180, (0, 0, []))]
+    counts = {math.radians(d): found(*c) for d, c in table}
     rad = sorted(counts)
     changes = [Transition(rad[i], rad[i + 1], counts[rad[i]], counts[rad[i + 1]]) for i in range(3)]
     result = Transitions(counts, changes, 1e-5, math.radians(5), math.radians(0.3))

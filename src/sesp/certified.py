@@ -67,7 +67,7 @@ from .shape import DEFAULT_SEGMENTS
 __all__ = ["RESOLUTION", "Certified", "CertifiedComponent", "certified_components"]
 
 RESOLUTION = 1e-5  # b: the default ε, the erosion length of the count
-RIM_RATIO = 100  # rims of candidates are searched for hidden components to this many ε at most (1e-3 b at the default ε)
+RIM_RATIO = 100  # rims of candidates are searched for hidden components to this many ε at most (1e-3 b at ε)
 BASE = 64  # cells along each side of the reach box before refinement
 MAX_STEPS = 64  # intervals of φ a depth certificate may use at first
 MOST_STEPS = 4096  # ... and at most, after retries at four times as many

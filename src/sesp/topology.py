@@ -248,9 +248,7 @@ def transitions(
 
     def count(opening):
         if opening not in cache:
-            cache[opening] = certified_components(
-                make(opening), resolution=resolution, base=base, segments=segments
-            )
+            cache[opening] = certified_components(make(opening), resolution=resolution, base=base, segments=segments)
         return cache[opening]
 
     with progress_bar(len(grid), progress, "openings", unit="Ψ") as bar:
