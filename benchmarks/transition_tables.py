@@ -17,10 +17,6 @@ from sesp import SeSP
 from sesp.topology import transitions
 
 
-def bracket(found) -> str:
-    return f"{found.low}" if found.low == found.high else f"{found.low}-{found.high}"
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--n", type=float, nargs="+", default=[2, 4, 8, 10])
@@ -44,11 +40,11 @@ def main():
                 width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
             )  # fmt: skip
             seconds = time.perf_counter() - start
-            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), bracket(t.before),
-                           bracket(t.after)) for t in found.changes]  # fmt: skip
+            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.bracket,
+                           t.after.bracket) for t in found.changes]  # fmt: skip
             for t in found.changes:
                 where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
-                change = f"{bracket(t.before)} -> {bracket(t.after)}"
+                change = f"{t.before.bracket} -> {t.after.bracket}"
                 rows.append([f"{n:g}", base, where, change, t.what().split("; ", 1)[-1][:70]])
             rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", f"{seconds:.0f} s"])
         same = all(v == seen[args.bases[0]] for v in seen.values())

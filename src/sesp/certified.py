@@ -178,8 +178,13 @@ class Certified:
         """The count where the bracket is one number, else None."""
         return self.low if self.low == self.high else None
 
+    @property
+    def bracket(self) -> str:
+        """The count as text: "2", or "1-2" where undecided."""
+        return f"{self.low}" if self.count is not None else f"{self.low}-{self.high}"
+
     def __str__(self):
-        head = f"{self.low}" if self.count is not None else f"{self.low}-{self.high} (undecided)"
+        head = self.bracket + (" (undecided)" if self.count is None else "")
         lines = [f"excluded components at resolution {self.resolution:.1e} b: {head}"]
         for k, c in enumerate(self.components, 1):
             x0, x1, y0, y1 = c.box

@@ -69,10 +69,6 @@ def _state(found: Certified) -> tuple:
     return found.low, found.high
 
 
-def _bracket(found: Certified) -> str:
-    return f"{found.low}" if found.count is not None else f"{found.low}-{found.high}"
-
-
 @dataclass(frozen=True)
 class Transition:
     """A change of the certified count between the openings ``low`` and ``high`` (radians), with the counts
@@ -90,7 +86,7 @@ class Transition:
 
     def what(self) -> str:
         """In words: the count on each side, and what the deepest component that appears or vanishes is."""
-        said = f"{_bracket(self.before)} -> {_bracket(self.after)}"
+        said = f"{self.before.bracket} -> {self.after.bracket}"
         gone = _unmatched(self.before, self.after)
         new = _unmatched(self.after, self.before)
         if gone:
@@ -149,7 +145,7 @@ class Transitions:
         lines.append(f"{'from':>9} {'to':>9} {'count':>6}")
         first = sorted(self.runs_of())
         for a, b, found in first:
-            lines.append(f"{math.degrees(a):9.3f} {math.degrees(b):9.3f} {_bracket(found):>6}")
+            lines.append(f"{math.degrees(a):9.3f} {math.degrees(b):9.3f} {found.bracket:>6}")
         lines.append(f"changes (brackets at most {math.degrees(self.width):.3g} deg wide):")
         for t in self.changes:
             lines.append(f"  {math.degrees(t.low):9.3f} .. {math.degrees(t.high):9.3f}: {t.what()}")
