@@ -30,28 +30,28 @@ def main():
     args = ap.parse_args()
     print(f"machine: {machine()}; resolution {args.resolution:g} b, {args.segments} segments, step {args.step:g}°, "
           f"brackets at most {args.width:g}° wide\n")  # fmt: skip
-    rows, verdicts = [], []
     for n in args.n:
         seen = {}
-        for base in args.bases:
+        for base in args.bases:  # each run's table is printed as soon as it is done: one run can take long
             start = time.perf_counter()
             found = transitions(
                 SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
                 width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
+                progress=True,
             )  # fmt: skip
             seconds = time.perf_counter() - start
             seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.bracket,
                            t.after.bracket) for t in found.changes]  # fmt: skip
+            rows = []
             for t in found.changes:
                 where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
                 change = f"{t.before.bracket} -> {t.after.bracket}"
                 rows.append([f"{n:g}", base, where, change, t.what().split("; ", 1)[-1][:70]])
             rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", f"{seconds:.0f} s"])
+            table(rows, ["n", "base", "bracket (deg)", "count", "what"])
+            print(flush=True)
         same = all(v == seen[args.bases[0]] for v in seen.values())
-        verdicts.append(f"n = {n:g}: brackets {'identical' if same else 'NOT identical'} on bases {args.bases}")
-    table(rows, ["n", "base", "bracket (deg)", "count", "what"])
-    print()
-    print("\n".join(verdicts))
+        print(f"n = {n:g}: brackets {'identical' if same else 'NOT identical'} on bases {args.bases}\n", flush=True)
 
 
 if __name__ == "__main__":

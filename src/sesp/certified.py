@@ -30,7 +30,13 @@ many as its parts: ``low`` counts those candidates, ``high`` adds up their
 parts (and 1 for a candidate without any). Cells are split only where an
 undecided cell could change the bracket: between two parts of one candidate,
 in a candidate without a part, or on a candidate's rim where it may be deeper
-than ε + rim. Refinement stops at cells of side ε/4.
+than ε + rim and lies farther than rim from every certified disk (a point
+deeper than ε + its distance d to a certified disk joins that disk's part:
+the disk of radius p − ε about it lies in E_ε, the depth being 1-Lipschitz,
+and reaches d). Refinement stops at cells of side ε/4. A centre that is not
+allowed at its first orientation is proved excluded by the depth certificate
+(at a depth of 1e-9 b) where it can be, which costs a fraction of the exact
+windows; the windows decide the rest.
 
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
@@ -72,6 +78,7 @@ BASE = 64  # cells along each side of the reach box before refinement
 MAX_STEPS = 64  # intervals of φ a depth certificate may use at first
 MOST_STEPS = 4096  # ... and at most, after retries at four times as many
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
+PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
 
 
@@ -275,14 +282,17 @@ class _Engine:
         if len(missed):
             deep[missed], radius[missed], ran_out[missed] = self._deep(x[missed], y[missed], h[missed], steps[missed])
         rest = np.nonzero(~allowed & ~deep)[0]
+        excluded = rest[self._excluded(x[rest], y[rest], steps[rest])]  # no allowed window to look for there
+        rest = np.setdiff1d(rest, excluded)
         if len(rest):
             ok, mid = self._windows(x[rest], y[rest])
             sel = rest[ok]
             allowed[sel], middle[sel] = True, mid[ok]
             clearance[sel] = np.maximum(self._clearance(x[sel], y[sel], mid[ok], h[sel]), 0.0)
-            fresh = rest[~ok & np.isnan(hint[rest])]  # excluded, not yet certified
-            if len(fresh):
-                deep[fresh], radius[fresh], ran_out[fresh] = self._deep(x[fresh], y[fresh], h[fresh], steps[fresh])
+            excluded = np.concatenate([excluded, rest[~ok]])
+        fresh = excluded[np.isnan(hint[excluded])]  # excluded, not yet certified
+        if len(fresh):
+            deep[fresh], radius[fresh], ran_out[fresh] = self._deep(x[fresh], y[fresh], h[fresh], steps[fresh])
         self.evaluations += n
         clearance = np.where(allowed, clearance, 0.0)
         return _Leaves(level, i, j, x, y, h, allowed, clearance, middle, deep, steps, ran_out, radius, bound)
@@ -303,6 +313,13 @@ class _Engine:
             np.zeros(n), width, mid, clear,
         )  # fmt: skip
         return width > 0, mid
+
+    def _excluded(self, x, y, steps):
+        """Whether each centre is proved excluded: at least ``PROOF_DEPTH`` deep, which costs a fraction of the
+        exact windows (where the proof fails, the windows decide)."""
+        if not len(x):
+            return np.zeros(0, bool)
+        return self._cover(x, y, np.full(len(x), self.pair.contact + PROOF_DEPTH), steps) == 1
 
     def _deep(self, x, y, h, steps):
         """Cells certified at least ε deep throughout, the radius about their centres so certified (wider than
@@ -380,11 +397,26 @@ class _Engine:
         rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
         self.rim_used = float(rim[inn].min()) if inn.any() else self.rim
         on_rim = und & (hi >= self.eps + rim)
+        on_rim[on_rim] = self._gap_to_parts(L, inn, on_rim) > rim[on_rim]
         above_floor = L.h * math.sqrt(2.0) > self.floor
         # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
         retry = und & L.ran_out & (L.steps < MOST_STEPS)
         return split & ~retry, retry, seed, U
+
+    @staticmethod
+    def _gap_to_parts(L, inn, which):
+        """b: per ``which`` leaf, how far its farthest point may lie from the nearest certified disk of an in-leaf
+        (∞ without in-leaves). A point q of the leaf at least ε + that gap deep joins that disk's part: the disk
+        of radius p(q) − ε about q lies in E_ε (the depth is 1-Lipschitz) and reaches the certified disk. The
+        disks have few distinct radii (per level): one nearest-centre query per radius."""
+        points = np.column_stack([L.x[which], L.y[which]])
+        gap = np.full(len(points), np.inf)
+        for radius in np.unique(L.radius[inn]):
+            same = inn & (L.radius == radius)
+            distance, _ = cKDTree(np.column_stack([L.x[same], L.y[same]])).query(points)
+            gap = np.minimum(gap, distance - radius)
+        return np.maximum(0.0, gap + L.h[which])
 
     def _depths(self, L, status, U):
         """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell."""
