@@ -95,6 +95,20 @@ def test_depth_certificate_is_a_lower_bound_on_the_asps_lens_depth():
     assert exact * 0.99 <= best <= exact + 1e-4
 
 
+def test_depth_certificate_falls_back_to_a_smaller_depth_where_the_first_fails():
+    """One walk around φ: where it fails at r it goes on at the fallback (what is certified at r is at any
+    smaller depth), so a position of the ASP's lens (inscribed radius 1 − sin 45° = 0.293 b) is 2 (at least
+    the fallback deep, not r) at r = 0.5 b, 1 at r = 0.2 b; an allowed position (the particles apart) is 0."""
+    pair = as_pair(_asp(90), segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    lens, apart = (np.array([0.8, 5.0]), np.array([0.0, 0.0]))
+    got = depth_kernels.certified_deep(curves, lens, apart, np.array([0.5, 0.5]), 1024, fallback=1e-3)
+    assert got.tolist() == [2, 0]
+    got = depth_kernels.certified_deep(curves, lens, apart, np.array([0.2, 0.2]), 1024, fallback=1e-3)
+    assert got.tolist() == [1, 0]
+    assert depth_kernels.certified_deep(curves, lens[:1], apart[:1], np.array([0.5]), 1024).tolist() == [0]
+
+
 def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_components(tmp_path, capsys):
     png = tmp_path / "components.png"
     command = ["topology", "--n", "2", "--opening", "90", "--resolution", "1e-3", "--base", "32", "--quiet"]

@@ -277,22 +277,15 @@ class _Engine:
         if len(tried):
             clearance[tried] = self._clearance(x[tried], y[tried], hint[tried], h[tried])
         allowed = clearance > 0
-        deep, ran_out, radius = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n)
-        missed = np.nonzero(~allowed & ~np.isnan(hint))[0]  # the hint failed: likely excluded, certify that first
-        if len(missed):
-            deep[missed], radius[missed], ran_out[missed] = self._deep(x[missed], y[missed], h[missed], steps[missed])
-        rest = np.nonzero(~allowed & ~deep)[0]
-        excluded = rest[self._excluded(x[rest], y[rest], steps[rest])]  # no allowed window to look for there
-        rest = np.setdiff1d(rest, excluded)
+        deep, ran_out, radius, excluded = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n), np.zeros(n, bool)
+        met = np.nonzero(~allowed)[0]  # where the hint failed (or there was none): certify depth first
+        deep[met], radius[met], ran_out[met], excluded[met] = self._deep(x[met], y[met], h[met], steps[met])
+        rest = np.nonzero(~allowed & ~excluded)[0]  # neither allowed nor proved excluded: the exact windows decide
         if len(rest):
             ok, mid = self._windows(x[rest], y[rest])
             sel = rest[ok]
             allowed[sel], middle[sel] = True, mid[ok]
             clearance[sel] = np.maximum(self._clearance(x[sel], y[sel], mid[ok], h[sel]), 0.0)
-            excluded = np.concatenate([excluded, rest[~ok]])
-        fresh = excluded[np.isnan(hint[excluded])]  # excluded, not yet certified
-        if len(fresh):
-            deep[fresh], radius[fresh], ran_out[fresh] = self._deep(x[fresh], y[fresh], h[fresh], steps[fresh])
         self.evaluations += n
         clearance = np.where(allowed, clearance, 0.0)
         return _Leaves(level, i, j, x, y, h, allowed, clearance, middle, deep, steps, ran_out, radius, bound)
@@ -314,17 +307,13 @@ class _Engine:
         )  # fmt: skip
         return width > 0, mid
 
-    def _excluded(self, x, y, steps):
-        """Whether each centre is proved excluded: at least ``PROOF_DEPTH`` deep, which costs a fraction of the
-        exact windows (where the proof fails, the windows decide)."""
-        if not len(x):
-            return np.zeros(0, bool)
-        return self._cover(x, y, np.full(len(x), self.pair.contact + PROOF_DEPTH), steps) == 1
-
     def _deep(self, x, y, h, steps):
         """Cells certified at least ε deep throughout, the radius about their centres so certified (wider than
-        the cell where it is under ``rim``), and where the certificate ran out of intervals."""
-        got = self._cover(x, y, self.eps + h, steps)
+        the cell where it is under ``rim``), where the certificate ran out of intervals, and the centres proved
+        excluded (at least ``PROOF_DEPTH`` deep where not deep: no allowed window to look for there)."""
+        if not len(x):
+            return np.zeros(0, bool), np.zeros(0), np.zeros(0, bool), np.zeros(0, bool)
+        got = self._cover(x, y, self.eps + h, steps, fallback=PROOF_DEPTH)
         deep, ran_out = got == 1, got == -1
         radius = np.where(deep, h, 0.0)
         thin = np.nonzero(deep & (h < self.rim))[0]
@@ -337,11 +326,11 @@ class _Engine:
             if len(short):
                 ok = self._cover(x[short], y[short], np.full(len(short), self.eps + self.rim), steps[short]) == 1
                 radius[short[ok]] = self.rim
-        return deep, radius, ran_out
+        return deep, radius, ran_out, got > 0
 
-    def _cover(self, x, y, r, steps):
+    def _cover(self, x, y, r, steps, fallback=0.0):
         r = np.maximum(r - self.pair.contact, 1e-300)
-        return depth_kernels.certified_deep(self.curves, x, y, r, steps)
+        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback)
 
     def classify(self, L):
         """IN, OUT or UNDECIDED per leaf, with an upper bound on the depth anywhere in it (b)."""
@@ -490,7 +479,7 @@ class _Engine:
         idx = np.nonzero(retry)[0]
         if len(idx):
             L.steps[idx] *= 4
-            L.deep[idx], L.radius[idx], L.ran_out[idx] = self._deep(L.x[idx], L.y[idx], L.h[idx], L.steps[idx])
+            L.deep[idx], L.radius[idx], L.ran_out[idx], _ = self._deep(L.x[idx], L.y[idx], L.h[idx], L.steps[idx])
         return L
 
     def _split(self, L, split):

@@ -265,10 +265,12 @@ def segment_radii(v, cx, cy, near, far):
 
 
 @njit(**JIT)
-def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, max_steps):
+def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, fallback, max_steps):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
-    ``max_steps`` intervals of φ; 0 if at some φ no pair of runs crosses with its ends that far apart (the
-    position may still be that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough.
+    ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
+    asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
+    that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
+    fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``boxes1``, ``frame_boxes2``: :func:`chunk_boxes` of each curve in its own frame; ``rin2``, ``rout2``:
     :func:`segment_radii` of curve 2 about its centre; ``p1``, ``p2``: :func:`prepared`'s periods."""
     near1 = np.empty(v1.shape[0] - 1)
@@ -280,6 +282,7 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, max_step
     roots = np.empty(16)
     phi = 0.0
     first_behind = 0.0
+    proved = 1
     for step in range(max_steps):
         count = -1
         for _ in range(3):  # beside a degenerate touch the parity is defined
@@ -296,7 +299,9 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, max_step
             return 0
         i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
         if margin < r:
-            return 0
+            if not 0.0 < fallback <= margin:
+                return 0
+            r, proved = fallback, 2
         ahead, behind = _certified_interval(
             v1,
             boxes1,
@@ -320,17 +325,17 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, max_step
         if step == 0:
             first_behind = behind
         if phi + ahead >= TWO_PI - first_behind:
-            return 1
+            return proved
         phi += ahead + 1e-12  # the interval is closed: its end is certified
-    return -1
+    return -1 if proved == 1 else 0  # out of steps at ``fallback``: nothing proved
 
 
 @njit(**JIT, parallel=True)
-def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs, ys, rs, max_steps, out):
-    """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` with ``max_steps[p]`` intervals. Each position
-    is written by one thread."""
+def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs, ys, rs, fallback, max_steps, out):
+    """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
+    intervals. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs[p], ys[p], rs[p], max_steps[p])
+        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs[p], ys[p], rs[p], fallback, max_steps[p])
 
 
 def _stored(v):
@@ -351,13 +356,13 @@ def prepared(v1, v2):
     return v1, boxes1, v2, chunk_boxes(v2, np.empty((chunk_count(v2), 4))), rin2, rout2, p1, p2
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps):
-    """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b) with ``max_steps`` intervals of φ
-    (broadcast); ``prepared_curves``: :func:`prepared`."""
+def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0):
+    """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
+    with ``max_steps`` intervals of φ (broadcast); ``prepared_curves``: :func:`prepared`."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
     rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
-    cover_at(*prepared_curves, xs, ys, rs, steps, out)
+    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, out)
     return out
