@@ -98,3 +98,40 @@ def test_near_the_crossover_the_nematic_transition_is_first_order(aspect):
     found = phase_behaviour(_rectangle_area(aspect, 1.0), orders=(2, 4)).sel(order=2)
     assert int(found.continuous) == 0
     assert float(found.coexistence_low) < float(found.coexistence_high) < float(found.bifurcation_density)
+
+
+def test_parsons_lee_factor_gives_the_hard_disk_equation_of_state():
+    """Hard disks of area a (A_ex = 4a, isotropic): the rescaled second-virial excess free energy
+    2η G(η) differentiated, βP/ρ = 1 + η d(2ηG)/dη, is the scaled-particle equation of state 1/(1 − η)²; and
+    G = 1 + 3η/4 + 2η²/3 + ... at low packing."""
+    from sesp.onsager import parsons_lee_factor
+
+    for eta in (0.05, 0.3, 0.6, 0.85):
+        h = 1e-6
+        slope = ((eta + h) * parsons_lee_factor(eta + h) - (eta - h) * parsons_lee_factor(eta - h)) / h  # d(2ηG)/dη
+        assert 1 + eta * slope == pytest.approx(1 / (1 - eta) ** 2, rel=1e-7)
+    assert parsons_lee_factor(0.0) == 1.0
+    assert parsons_lee_factor(1e-3) == pytest.approx(1 + 0.75e-3 + 2e-6 / 3, rel=1e-9)  # next: 5η³/8
+    assert parsons_lee_factor(1e-12) == pytest.approx(1 + 0.75e-12, rel=1e-15)
+    with pytest.raises(ValueError, match="packing_fraction"):
+        parsons_lee_factor(1.0)
+
+
+def test_parsons_lee_density_maps_a_bifurcation_and_keeps_thin_particles():
+    from sesp.onsager import parsons_lee_density, parsons_lee_factor, particle_area
+
+    rho = parsons_lee_density(np.array([0.5, 3.0]), 0.2)
+    assert rho * parsons_lee_factor(0.2 * rho) == pytest.approx([0.5, 3.0], rel=1e-12)
+    assert np.all(rho < [0.5, 3.0])  # the hard-disk factor only raises the excess free energy
+    assert parsons_lee_density(3 * math.pi / 2, 0.0) == 3 * math.pi / 2  # needles: no area, no change
+    # an arc of radius 1, thickness D: the annular sector (1 + D/2)² − (1 − D/2)² over 2 times its angle, and
+    # two half disks at its ends
+    psi, d = math.radians(90), 0.1
+    sector = ((1 + d / 2) ** 2 - (1 - d / 2) ** 2) / 2 * (2 * math.pi - psi)
+    assert particle_area(sesp.SeSP(n=2, opening=psi, thickness=d)) == pytest.approx(
+        sector + math.pi * d**2 / 4, rel=1e-9
+    )
+    assert particle_area(sesp.SeSP(n=2, opening=0.0, thickness=d)) == pytest.approx(2 * math.pi * d, rel=1e-9)
+    assert particle_area(sesp.SeSP(n=2, opening=psi)) == 0.0
+    needle = sesp.Polyline([[0, 0], [2, 0]], thickness=d)
+    assert particle_area(needle) == pytest.approx(2 * d + math.pi * d**2 / 4)

@@ -71,6 +71,9 @@ __all__ = [
     "onsager_solution",
     "phase_behaviour",
     "first_transition",
+    "particle_area",
+    "parsons_lee_factor",
+    "parsons_lee_density",
 ]
 
 SIGNIFICANCE = 3.0  # a_k counts as negative below −SIGNIFICANCE error bars
@@ -550,3 +553,53 @@ def first_transition(excluded_area, orders=(1, 2, 4)) -> dict:
         low = high = float(row.bifurcation_density)
         continuous = int(row.continuous) == 1
     return {"order": k, "density": low, "ordered_density": high, "continuous": continuous}
+
+
+# --- beyond the second virial: the Parsons–Lee rescaling ------------------------------------------------------
+
+
+def particle_area(particle) -> float:
+    """b²: the area a thick particle covers, L·D + πD²/4 for an open curve of length L and thickness D (L·D for
+    a closed one); 0 for a thin particle.
+
+    Exact where the curve's radius of curvature is at least D/2 everywhere and its parallel curves at ±D/2 do
+    not meet (an arc of radius 1: the annular sector L·D and two half disks); SeSPs with sharp corners
+    (large n) or openings narrower than D are covered less than that."""
+    thickness = float(getattr(particle, "thickness", 0.0))
+    closed = particle.is_closed if hasattr(particle, "is_closed") else float(particle.opening) == 0.0
+    return float(particle.length) * thickness + (0.0 if closed else math.pi * thickness**2 / 4)
+
+
+def parsons_lee_factor(packing_fraction):
+    """G(η) = [−ln(1 − η) + η/(1 − η)] / (2η), G(0) = 1: the excess free energy of hard disks in scaled-particle
+    theory over its second-virial value 2η (η: packing fraction, 0 ≤ η < 1). G = 1 + 3η/4 + O(η²)."""
+    eta = np.asarray(packing_fraction, dtype=float)
+    if np.any(~(eta >= 0) | ~(eta < 1)):
+        raise ValueError(f"packing_fraction must lie in [0, 1), got {packing_fraction!r}")
+    safe = np.where(eta == 0, 0.5, eta)  # both terms are positive: no cancellation down to the smallest η
+    return np.where(eta == 0, 1.0, (-np.log1p(-safe) + safe / (1 - safe)) / (2 * safe))[()]
+
+
+def parsons_lee_density(density, particle_area: float):
+    """b⁻²: the density ρ at which the Parsons–Lee free energy has the orientational state that the
+    second-virial (Onsager) free energy has at ``density`` (b⁻²): ρ G(ρ a) = ``density``, a the particle's
+    area (b², :func:`particle_area`).
+
+    The Parsons–Lee free energy is βF/N = ln ρ − 1 + ∫ψ ln(2πψ) + G(η) (ρ/2)∫∫ψψ'A_ex(φ − φ'), η = ρa: the
+    second-virial excess term rescaled by the hard-disk fluid's (:func:`parsons_lee_factor`). Its stationary
+    ψ is the Onsager one at ρG(η), so bifurcation densities ρ*_k (:func:`instabilities`) map exactly; the
+    coexisting densities of a first-order transition do not (pressure and chemical potential change too).
+    An approximation, not an exact result: see the guide. A thin particle (a = 0) keeps its density."""
+    target = np.asarray(density, dtype=float)
+    area = float(particle_area)
+    if not (math.isfinite(area) and area >= 0):
+        raise ValueError(f"particle_area must be a finite area >= 0 (b^2), got {particle_area!r}")
+    if area == 0:
+        return target[()]
+    goal = target * area  # η G(η) = ρ_O a: increasing in η from 0 to ∞ on [0, 1)
+    lo, hi = np.zeros_like(goal), np.ones_like(goal)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        below = mid * parsons_lee_factor(np.minimum(mid, 1 - 1e-16)) < goal
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return (0.5 * (lo + hi) / area)[()]
