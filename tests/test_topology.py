@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from sesp import Grid, SeSP, scan
+from sesp import Grid, SeSP, scan, topology
+from sesp.progress import _NoProgress
 from sesp.regions import summarize
 from sesp.topology import _labelled, lattice_components, opening_family, transitions
 
@@ -56,12 +57,26 @@ def test_on_the_lattice_the_asp_pinch_joins_lens_and_body_which_is_why_the_count
 
 
 @pytest.mark.slow
-def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution():
+def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(monkeypatch):
     """At ε = 1e-2 b the lens (inscribed radius 1 − sin(Ψ/2)) is counted while it is deeper than ε, so until
-    Ψ = 2 asin(1 − ε) = 163.8°; the body, thinner still near π, ends by π; nothing is excluded past π."""
+    Ψ = 2 asin(1 − ε) = 163.8°; the body, thinner still near π, ends by π; nothing is excluded past π. The
+    bisections' progress bar ends at its total (it grows where a step holds two changes)."""
+    bars = []
+
+    class Bar(_NoProgress):
+        def __init__(self, total, enabled, desc, unit="it"):
+            self.total, self.done = total, 0
+            bars.append(self)
+
+        def update(self, n=1):
+            self.done += n
+
+    monkeypatch.setattr(topology, "progress_bar", Bar)
     found = transitions(
         SeSP(n=2), (math.radians(140), math.radians(200)), step=math.radians(30), width=math.radians(4), **COARSE
     )
+    assert (bars[1].total, bars[1].done) == (len(found.counts) - 3,) * 2  # openings, then bisections
+    assert len(found.changes) >= 2  # more than one change in a step: the bar grew
     openings = np.degrees(found.openings)
     counts = {round(float(d), 3): (found.counts[o].low, found.counts[o].high) for d, o in zip(openings, found.openings)}
     assert counts[140.0] == (2, 2) and counts[200.0] == (0, 0)

@@ -6,6 +6,8 @@ __all__ = ["progress_bar", "progress_iter"]
 
 
 class _NoProgress:
+    total = 0
+
     def __enter__(self):
         return self
 
@@ -13,6 +15,9 @@ class _NoProgress:
         return False
 
     def update(self, n=1):
+        pass
+
+    def refresh(self):
         pass
 
 

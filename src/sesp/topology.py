@@ -252,9 +252,12 @@ def transitions(
             count(o)
             bar.update(1)
     pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _state(cache[a]) != _state(cache[b])]
-    halvings = max(0, math.ceil(math.log2(max(b - a for a, b in pending) / width))) if pending else 0
+
+    def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
+        return max(0, math.ceil(math.log2((hi - lo) / width)))
+
     changes = []
-    with progress_bar(len(pending) * halvings, progress, "bisections", unit="Ψ") as bar:
+    with progress_bar(sum(halvings(a, b) for a, b in pending), progress, "bisections", unit="Ψ") as bar:
         while pending:
             a, b = pending.pop()
             if b - a <= width:
@@ -263,9 +266,11 @@ def transitions(
             mid = 0.5 * (a + b)
             count(mid)
             bar.update(1)
-            for lo, hi in ((a, mid), (mid, b)):
-                if _state(cache[lo]) != _state(cache[hi]):
-                    pending.append((lo, hi))
+            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if _state(cache[lo]) != _state(cache[hi])]
+            if len(halves) != 1:  # a second branch to bisect, or none left (the change undid itself)
+                bar.total += (len(halves) - 1) * halvings(a, mid)
+                bar.refresh()
+            pending.extend(halves)
     changes.sort(key=lambda t: t.low)
     return Transitions(cache, changes, resolution, step, width, seconds=time.perf_counter() - start)
 
