@@ -190,9 +190,13 @@ class Certified:
         """The count as text: "2", or "1-2" where undecided."""
         return f"{self.low}" if self.count is not None else f"{self.low}-{self.high}"
 
+    @property
+    def headline(self) -> str:
+        """The bracket with "(undecided)" where it is not one number: the head of a report or a map's title."""
+        return self.bracket + (" (undecided)" if self.count is None else "")
+
     def __str__(self):
-        head = self.bracket + (" (undecided)" if self.count is None else "")
-        lines = [f"excluded components at resolution {self.resolution:.1e} b: {head}"]
+        lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}"]
         for k, c in enumerate(self.components, 1):
             x0, x1, y0, y1 = c.box
             lines.append(

@@ -609,8 +609,7 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         )
     if handles:  # below the figure, so that it hides no component
         fig.legend(handles=handles, fontsize=7, loc="outside lower left")
-    head = found.bracket + (" (undecided)" if found.count is None else "")
-    what = f"{head} excluded component{'s' if found.high != 1 else ''} at resolution {found.resolution:.0e} b"
+    what = f"{found.headline} excluded component{'s' if found.high != 1 else ''} at resolution {found.resolution:.0e} b"
     fig.suptitle(f"{title}: {what}" if title else what, fontsize=10)
     return fig
 
