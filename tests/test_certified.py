@@ -10,6 +10,7 @@ from sesp import Polyline, SeSP
 from sesp.certified import certified_components
 from sesp.cli import main
 from sesp.kernels import depth as depth_kernels
+from sesp.orientations import allowed_orientations
 from sesp.pair import as_pair
 
 COARSE = dict(resolution=1e-3)  # b: a resolution that keeps these tests to seconds
@@ -150,3 +151,19 @@ def test_certified_cells_are_excluded_within_the_resolution_by_brute_force(parti
             ys.append(cells["y"][pick] + dy * half + r * math.sin(t))
     width, _ = widest_window(particle, np.array(xs), np.array(ys), other=other, segments=64)
     assert np.all(width == 0)
+
+
+def test_depth_certificate_ends_runs_mid_segment_where_a_corner_crosses_a_flat_side():
+    """Beside the closed n = 8 curve's excluded set, at φ ≈ 28°, a rounded corner of curve 1 crosses a flat side
+    of curve 2 in a lens about one segment long: every vertex of curve 2 near it lies within 3e-5 b of a crossing.
+    Runs that may end at a segment's middle prove at least half the depth there (an allowed position lies
+    8.3e-4 b away); runs ending at vertices proved only 3e-5 b, and the count of this shape did not finish at
+    the default resolution."""
+    pair = as_pair(SeSP(n=8, opening=0.0), segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    x, y = -1.3240539, 1.8415378
+    turn = math.radians(117)
+    near = allowed_orientations(pair, x + 8.3e-4 * math.cos(turn), y + 8.3e-4 * math.sin(turn))
+    assert near > 0  # the depth is at most 8.3e-4 b
+    got = depth_kernels.certified_deep(curves, np.array([x]), np.array([y]), np.array([4.15e-4]), 4096)
+    assert got.tolist() == [1]

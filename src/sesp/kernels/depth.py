@@ -20,6 +20,12 @@ that without sampling φ:
 
 * A closed curve has no end points: it is stored twice over, and its runs
   (of fewer segments than the curve) may pass the polyline's first vertex.
+* A run may end anywhere on the curve, not only at a vertex. Where a lens
+  between the curves spans about one segment (a rounded corner across a flat
+  side), every vertex near it lies close to a crossing and no vertex-ended
+  run is r apart; at such a φ the runs are also tried on the polylines with
+  each segment cut at its middle (the same curves), whose ends can lie in
+  the middle of the lens.
 
 :func:`cover` walks around the circle of orientations: at the first φ not yet
 certified it looks for an arc pair with an odd crossing number and end points
@@ -265,63 +271,66 @@ def segment_radii(v, cx, cy, near, far):
 
 
 @njit(**JIT)
-def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, fallback, max_steps):
+def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
+    """(count, i0, i1, j0, j1, margin): :func:`_odd_runs` of ``curves`` with curve 2 turned by ``phi`` and moved
+    to (tx, ty) (written to ``w``, ``boxes2``); count −1 where a pair meets degenerately."""
+    v1, boxes1, v2, _, _, _, p1, p2 = curves
+    c, s = math.cos(phi), math.sin(phi)
+    for k in range(v2.shape[0]):
+        w[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
+        w[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
+    chunk_boxes(w, boxes2)
+    count = crossings(v1, boxes1, w, boxes2, cross)
+    if count < 0 or count > MAX_CROSSINGS:
+        return count, 0, 0, 0, 0, -1.0
+    i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
+    return count, i0, i1, j0, j1, margin
+
+
+@njit(**JIT)
+def cover(plain, halved, tx, ty, r, fallback, max_steps):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
     asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
     that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
     fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
-    ``boxes1``, ``frame_boxes2``: :func:`chunk_boxes` of each curve in its own frame; ``rin2``, ``rout2``:
-    :func:`segment_radii` of curve 2 about its centre; ``p1``, ``p2``: :func:`prepared`'s periods."""
-    near1 = np.empty(v1.shape[0] - 1)
-    far1 = np.empty(v1.shape[0] - 1)
-    segment_radii(v1, tx, ty, near1, far1)
-    w = np.empty_like(v2)
-    boxes2 = np.empty((chunk_count(v2), 4))
+    ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
+    tried at a φ where those of ``plain`` are not r apart."""
+    near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
+    near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
+    segment_radii(plain[0], tx, ty, near1, far1)
+    segment_radii(halved[0], tx, ty, near1h, far1h)
+    w, wh = np.empty_like(plain[2]), np.empty_like(halved[2])
+    boxes2, boxes2h = np.empty((chunk_count(plain[2]), 4)), np.empty((chunk_count(halved[2]), 4))
     cross = np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
     roots = np.empty(16)
     phi = 0.0
     first_behind = 0.0
     proved = 1
     for step in range(max_steps):
-        count = -1
-        for _ in range(3):  # beside a degenerate touch the parity is defined
-            c, s = math.cos(phi), math.sin(phi)
-            for k in range(v2.shape[0]):
-                w[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
-                w[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
-            chunk_boxes(w, boxes2)
-            count = crossings(v1, boxes1, w, boxes2, cross)
-            if count >= 0:
+        got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
+        for _ in range(2):  # beside a degenerate touch the parity is defined
+            if got[0] >= 0:
                 break
             phi += 1e-9
-        if count < 0 or count > MAX_CROSSINGS:
+            got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
+        if got[0] < 0 or got[0] > MAX_CROSSINGS:
             return 0
-        i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
+        curves, near, far = plain, near1, far1
+        if got[5] < r:  # runs that may end at the middle of a segment
+            finer = _runs_at(halved, tx, ty, phi, wh, boxes2h, cross)
+            if 0 <= finer[0] <= MAX_CROSSINGS and finer[5] > got[5]:
+                got, curves, near, far = finer, halved, near1h, far1h
+        _, i0, i1, j0, j1, margin = got
         if margin < r:
             if not 0.0 < fallback <= margin:
                 return 0
             r, proved = fallback, 2
+        v1, boxes1, v2, frame_boxes2, rin2, rout2, _, _ = curves
         ahead, behind = _certified_interval(
-            v1,
-            boxes1,
-            near1,
-            far1,
-            i0,
-            i1,
-            v2,
-            frame_boxes2,
-            rin2,
-            rout2,
-            j0,
-            j1,
-            tx,
-            ty,
-            r,
-            phi,
-            roots,
+            v1, boxes1, near, far, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi, roots,
             TWO_PI if step == 0 else 0.0,
-        )
+        )  # fmt: skip
         if step == 0:
             first_behind = behind
         if phi + ahead >= TWO_PI - first_behind:
@@ -331,11 +340,11 @@ def cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, tx, ty, r, fallback
 
 
 @njit(**JIT, parallel=True)
-def cover_at(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs, ys, rs, fallback, max_steps, out):
+def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, out):
     """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
     intervals. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2, xs[p], ys[p], rs[p], fallback, max_steps[p])
+        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p])
 
 
 def _stored(v):
@@ -346,14 +355,25 @@ def _stored(v):
     return np.ascontiguousarray(v), 0
 
 
-def prepared(v1, v2):
-    """The arguments of :func:`cover` that depend on the curves only."""
+def _halved(v):
+    """Polyline ``v`` with each segment cut in two at its middle: the same curve, with more places to end a run."""
+    out = np.empty((2 * len(v) - 1, 2))
+    out[0::2], out[1::2] = v, 0.5 * (v[:-1] + v[1:])
+    return out
+
+
+def _curves(v1, v2):
     v1, p1 = _stored(v1)
     v2, p2 = _stored(v2)
     boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
     rin2, rout2 = np.empty(v2.shape[0] - 1), np.empty(v2.shape[0] - 1)
     segment_radii(v2, 0.0, 0.0, rin2, rout2)
     return v1, boxes1, v2, chunk_boxes(v2, np.empty((chunk_count(v2), 4))), rin2, rout2, p1, p2
+
+
+def prepared(v1, v2):
+    """The arguments of :func:`cover` that depend on the curves only: the polylines as they are, and halved."""
+    return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
 def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0):
