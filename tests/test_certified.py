@@ -167,3 +167,14 @@ def test_depth_certificate_ends_runs_mid_segment_where_a_corner_crosses_a_flat_s
     assert near > 0  # the depth is at most 8.3e-4 b
     got = depth_kernels.certified_deep(curves, np.array([x]), np.array([y]), np.array([4.15e-4]), 4096)
     assert got.tolist() == [1]
+
+
+@pytest.mark.parametrize(("n", "degrees"), [(2, 10), (8, 5)])
+def test_lens_and_body_part_at_a_pinch_whose_allowed_wedge_runs_between_cell_centres(n, degrees):
+    """At small Ψ the lens and the body meet only at the centre: the allowed set there is a wedge along x = 0
+    (angle about Ψ for the ASP), narrower than a floor cell near the centre, and x = 0 is a line of cell edges.
+    The corners of the floor cells left between the two parts are tried as well as their centres: allowed
+    corners bound the depth beside them below ε and part lens from body (exact for the ASP: 2 for 0 < Ψ < π).
+    With centres alone both stayed 1-2."""
+    found = certified_components(SeSP(n=n, opening=math.radians(degrees)), resolution=1e-3, segments=64)
+    assert (found.low, found.high) == (2, 2)

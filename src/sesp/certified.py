@@ -33,7 +33,10 @@ in a candidate without a part, or on a candidate's rim where it may be deeper
 than ε + rim and lies farther than rim from every certified disk (a point
 deeper than ε + its distance d to a certified disk joins that disk's part:
 the disk of radius p − ε about it lies in E_ε, the depth being 1-Lipschitz,
-and reaches d). Refinement stops at cells of side ε/4. A centre that is not
+and reaches d). Refinement stops at cells of side ε/4; the floor cells left
+between two parts are then tried at their corners too (any allowed point
+bounds the depth near it, and the narrow allowed wedge of a pinch on x = 0
+runs along cell edges, between centres). A centre that is not
 allowed at its first orientation is proved excluded by the depth certificate
 (at a depth of 1e-9 b) where it can be, which costs a fraction of the exact
 windows; the windows decide the rest.
@@ -262,6 +265,8 @@ class _Engine:
         self.depth_cache = {}
         self.t0 = time.perf_counter()
         self.best = {}  # component root -> the leaf where its depth was proved largest
+        self.corners = np.empty((0, 2))  # b: allowed corners of floor cells between parts
+        self.probed = set()  # corners tried, as whole multiples of the smallest cell side
 
     def evaluate(self, level, i, j, bound, steps=None, hint=None):
         """Leaves (level, i, j): whether each centre is allowed (and how far that lasts), or certified deep.
@@ -345,9 +350,9 @@ class _Engine:
         reach = np.hypot(L.x[a] - L.x[b], L.y[a] - L.y[b]) + L.h[a] - L.clearance[b]
         np.minimum.at(hi, a, np.maximum(0.0, reach))
         far = ~L.allowed & ~L.deep & (hi >= self.eps)
-        if far.any() and L.allowed.any():  # the nearest allowed centre anywhere bounds the depth too
-            tree = cKDTree(np.column_stack([L.x[L.allowed], L.y[L.allowed]]))
-            gap, _ = tree.query(np.column_stack([L.x[far], L.y[far]]))
+        allowed = np.concatenate([np.column_stack([L.x[L.allowed], L.y[L.allowed]]), self.corners])
+        if far.any() and len(allowed):  # the nearest allowed point anywhere bounds the depth too
+            gap, _ = cKDTree(allowed).query(np.column_stack([L.x[far], L.y[far]]))
             hi[far] = np.minimum(hi[far], gap + L.h[far])
         status = np.full(len(L.x), UNDECIDED)
         status[L.deep] = IN
@@ -365,7 +370,7 @@ class _Engine:
             while True:
                 status, hi, ea, eb = self.classify(L)
                 split, retry, seed, U = self._to_refine(L, status, hi, ea, eb)
-                if not split.any() and not retry.any():
+                if not split.any() and not retry.any() and not self._probe_corners(L, split, seed, status, ea, eb):
                     break
                 L = self._split(self._retry(L, retry), split)
                 if (now := int(L.level.max())) > deepest:
@@ -396,6 +401,28 @@ class _Engine:
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
         retry = und & L.ran_out & (L.steps < MOST_STEPS)
         return split & ~retry, retry, seed, U
+
+    def _probe_corners(self, L, split, seed, status, ea, eb):
+        """Whether allowed corners were found for the floor cells left between two parts. A narrow allowed wedge
+        (the pinch of lens and body at small Ψ lies on x = 0, a line of cell edges) passes between cell centres;
+        the corners of a cell are its points too, and an allowed one bounds the depth of every cell near it."""
+        und = status == UNDECIDED
+        floor = und & ~split & cell_kernels.corridors(seed, und | (status == IN), ea, eb, 2)
+        if not floor.any():
+            return False
+        finest = int(L.level.max())
+        scale = np.exp2(finest - L.level[floor])  # corners in units of the finest cell side
+        i0, j0 = L.i[floor] * scale, L.j[floor] * scale
+        keys = {(a + da * s, b + db * s) for a, b, s in zip(i0, j0, scale) for da in (0, 1) for db in (0, 1)}
+        keys = sorted(k for k in keys if k not in self.probed)
+        if not keys:
+            return False
+        self.probed.update(keys)
+        side = 2.0 * self.half / (self.base * 2.0**finest)
+        corners = -self.half + np.array(keys, dtype=float) * side
+        ok, _ = self._windows(corners[:, 0].copy(), corners[:, 1].copy())
+        self.corners = np.concatenate([self.corners, corners[ok]])
+        return bool(ok.any())
 
     @staticmethod
     def _gap_to_parts(L, inn, which):
