@@ -97,6 +97,44 @@ def test_every_command_line_is_accepted_by_the_cli_or_names_a_real_file(page):
         assert (ROOT / name).is_file(), f"{page.name} names a missing file: {name}"
 
 
+def small_command(line: str) -> list:
+    """The words after ``sesp`` of a page's command line, smaller: grids of 32 cells and 16 orientations,
+    certified counts at resolution COARSE, a range of openings in two steps bracketed no finer; the ``sesp``
+    part of an ``install && sesp ...`` line."""
+    words = shlex.split(line.split("&&")[-1])[1:]
+    if "--opening-range" in words:
+        at = words.index("--opening-range")
+        half = str((float(words[at + 2]) - float(words[at + 1])) / 2)
+        words += ["--step", half, "--width", half]  # the last of a repeated option wins
+    for flag, value in (("--nx", "32"), ("--ny", "32"), ("--nphi", "16")):
+        if flag in words:
+            words[words.index(flag) + 1] = value
+    if words[0] == "topology" and "--resolution" not in words:
+        words += ["--resolution", str(COARSE)]
+    return words
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", [README, ROOT / "docs" / "guide.md"], ids=lambda p: p.name)
+def test_every_command_line_runs(quick_results, page):
+    """Every ``sesp`` line of the page, in order, in a folder holding the quick sweep's results, the sweep
+    files (grids of 32 cells, openings 90° apart) and the README's polyline file; set-up lines (pip, venv,
+    pytest) are what CI itself runs."""
+    matplotlib.use("Agg")
+    (quick_results / "my_particle.txt").write_text("-1 0\n1 0\n")
+    for sweep in (quick_results / "sweeps").glob("*.toml"):
+        if sweep.name != "quick.toml":
+            text = re.sub(r"nx = \d+", "nx = 32", sweep.read_text())
+            sweep.write_text(re.sub(r"step = \d+", "step = 90", re.sub(r"nphi = \d+", "nphi = 16", text)))
+    lines = [line for line in shell_lines(page.read_text()) if "sesp " in line.split("&&")[-1]]
+    assert lines
+    for line in lines:
+        assert main(["-q", *small_command(line)]) == 0, line
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
 @pytest.mark.slow
 def test_the_readme_quick_start_commands_run(tmp_path, monkeypatch, capsys):
     """Each `sesp` line of the quick start, as printed (certified counts at COARSE), in a folder with the
