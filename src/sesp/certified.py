@@ -364,13 +364,13 @@ class _Engine:
         b = self.base
         i, j = np.meshgrid(np.arange(b, dtype=np.int64), np.arange(b, dtype=np.int64), indexing="ij")
         L = self.evaluate(np.zeros(b * b, np.int64), i.ravel(), j.ravel(), np.full(b * b, np.inf))
-        levels = max(1, math.ceil(math.log2(2 * self.half / b / self.floor)))
+        levels = self.levels = max(1, math.ceil(math.log2(2 * self.half / b / self.floor)))
         with progress_bar(levels, progress, "certified components", unit="level") as bar:
             deepest = 0
             while True:
                 status, hi, ea, eb = self.classify(L)
                 split, retry, seed, U = self._to_refine(L, status, hi, ea, eb)
-                if not split.any() and not retry.any() and not self._probe_corners(L, split, seed, status, ea, eb):
+                if not split.any() and not retry.any() and not self._probe_corners(L, seed, status, ea, eb):
                     break
                 L = self._split(self._retry(L, retry), split)
                 if (now := int(L.level.max())) > deepest:
@@ -402,17 +402,17 @@ class _Engine:
         retry = und & L.ran_out & (L.steps < MOST_STEPS)
         return split & ~retry, retry, seed, U
 
-    def _probe_corners(self, L, split, seed, status, ea, eb):
+    def _probe_corners(self, L, seed, status, ea, eb):
         """Whether allowed corners were found for the floor cells left between two parts. A narrow allowed wedge
         (the pinch of lens and body at small Ψ lies on x = 0, a line of cell edges) passes between cell centres;
         the corners of a cell are its points too, and an allowed one bounds the depth of every cell near it."""
         und = status == UNDECIDED
-        floor = und & ~split & cell_kernels.corridors(seed, und | (status == IN), ea, eb, 2)
-        if not floor.any():
+        left = und & cell_kernels.corridors(seed, und | (status == IN), ea, eb, 2)  # nothing more is split
+        if not left.any():
             return False
-        finest = int(L.level.max())
-        scale = np.exp2(finest - L.level[floor])  # corners in units of the finest cell side
-        i0, j0 = L.i[floor] * scale, L.j[floor] * scale
+        finest = self.levels  # no leaf is finer: cells of this level are no wider than the floor
+        scale = np.exp2(finest - L.level[left])  # corners in units of the finest cell side
+        i0, j0 = L.i[left] * scale, L.j[left] * scale
         keys = {(a + da * s, b + db * s) for a, b, s in zip(i0, j0, scale) for da in (0, 1) for db in (0, 1)}
         keys = sorted(k for k in keys if k not in self.probed)
         if not keys:
