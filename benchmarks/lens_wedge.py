@@ -32,8 +32,8 @@ the lens), and W and its middle at x = 0 (the middle is φ = π).
     python benchmarks/lens_wedge.py [--n 8] [--openings 1 2 5] [--cell 1e-5]
     python benchmarks/lens_wedge.py --neck --openings 30 90 150 167.5 175 179
 
-No adaptive map is involved: it is the check the maps are held to
-(``tests/test_maps.py``: the maps on 97 and 128 base cells at Ψ = 5°).
+No certified cell is involved: it is a check the certified count is held to
+(``tests/test_certified.py``: lens and body parted at small Ψ).
 """
 
 import argparse
