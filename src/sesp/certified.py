@@ -267,6 +267,8 @@ class _Engine:
         self.best = {}  # component root -> the leaf where its depth was proved largest
         self.corners = np.empty((0, 2))  # b: allowed corners of floor cells between parts
         self.probed = set()  # corners tried, as whole multiples of the smallest cell side
+        # refinement levels to the floor: no leaf is finer, cells of the last level are no wider than the floor
+        self.levels = max(1, math.ceil(math.log2(2 * self.half / base / self.floor)))
 
     def evaluate(self, level, i, j, bound, steps=None, hint=None):
         """Leaves (level, i, j): whether each centre is allowed (and how far that lasts), or certified deep.
@@ -364,13 +366,12 @@ class _Engine:
         b = self.base
         i, j = np.meshgrid(np.arange(b, dtype=np.int64), np.arange(b, dtype=np.int64), indexing="ij")
         L = self.evaluate(np.zeros(b * b, np.int64), i.ravel(), j.ravel(), np.full(b * b, np.inf))
-        levels = self.levels = max(1, math.ceil(math.log2(2 * self.half / b / self.floor)))
-        with progress_bar(levels, progress, "certified components", unit="level") as bar:
+        with progress_bar(self.levels, progress, "certified components", unit="level") as bar:
             deepest = 0
             while True:
                 status, hi, ea, eb = self.classify(L)
-                split, retry, seed, U = self._to_refine(L, status, hi, ea, eb)
-                if not split.any() and not retry.any() and not self._probe_corners(L, seed, status, ea, eb):
+                split, retry, between, seed, U = self._to_refine(L, status, hi, ea, eb)
+                if not split.any() and not retry.any() and not self._probe_corners(L, between):
                     break
                 L = self._split(self._retry(L, retry), split)
                 if (now := int(L.level.max())) > deepest:
@@ -381,8 +382,9 @@ class _Engine:
         return found
 
     def _to_refine(self, L, status, hi, ea, eb):
-        """The leaves to split and those to certify again with more intervals, the seed (certified part) of each
-        in-leaf and the candidate component (root) of each leaf not out."""
+        """The leaves to split and those to certify again with more intervals, the undecided leaves between two
+        certified parts, the seed (certified part) of each in-leaf and the candidate component (root) of each
+        leaf not out."""
         und, inn = status == UNDECIDED, status == IN
         U = cell_kernels.components(status != OUT, ea, eb)
         parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, ea, eb)
@@ -400,17 +402,16 @@ class _Engine:
         # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
         retry = und & L.ran_out & (L.steps < MOST_STEPS)
-        return split & ~retry, retry, seed, U
+        return split & ~retry, retry, between, seed, U
 
-    def _probe_corners(self, L, seed, status, ea, eb):
-        """Whether allowed corners were found for the floor cells left between two parts. A narrow allowed wedge
-        (the pinch of lens and body at small Ψ lies on x = 0, a line of cell edges) passes between cell centres;
-        the corners of a cell are its points too, and an allowed one bounds the depth of every cell near it."""
-        und = status == UNDECIDED
-        left = und & cell_kernels.corridors(seed, und | (status == IN), ea, eb, 2)  # nothing more is split
+    def _probe_corners(self, L, left):
+        """Whether allowed corners were found for the ``left`` leaves: undecided, between two parts, and not
+        split further. A narrow allowed wedge (the pinch of lens and body at small Ψ lies on x = 0, a line of
+        cell edges) passes between cell centres; the corners of a cell are its points too, and an allowed one
+        bounds the depth of every cell near it."""
         if not left.any():
             return False
-        finest = self.levels  # no leaf is finer: cells of this level are no wider than the floor
+        finest = self.levels
         scale = np.exp2(finest - L.level[left])  # corners in units of the finest cell side
         i0, j0 = L.i[left] * scale, L.j[left] * scale
         keys = {(a + da * s, b + db * s) for a, b, s in zip(i0, j0, scale) for da in (0, 1) for db in (0, 1)}
