@@ -135,3 +135,55 @@ def test_parsons_lee_density_maps_a_bifurcation_and_keeps_thin_particles():
     assert particle_area(sesp.SeSP(n=2, opening=psi)) == 0.0
     needle = sesp.Polyline([[0, 0], [2, 0]], thickness=d)
     assert particle_area(needle) == pytest.approx(2 * d + math.pi * d**2 / 4)
+
+
+def test_parsons_lee_thermodynamics_of_the_isotropic_state_are_the_hard_disk_fluid_s():
+    """Isotropic hard disks (E = ⟨A_ex⟩ = 4a): the Parsons–Lee pressure and chemical potential are the
+    scaled-particle theory's, βP/ρ = 1/(1 − η)² and βμ − ln ρ = −ln(1 − η) + η(3 − 2η)/(1 − η)²; at a = 0 the
+    second-virial ρ + ρ²E/2 and ln ρ + ρE."""
+    from sesp.onsager import _thermodynamics
+
+    a = 0.3
+    for eta in (0.05, 0.4, 0.8):
+        rho = eta / a
+        found = _thermodynamics(rho, 0.0, 4 * a, a)
+        assert found["pressure"] / rho == pytest.approx(1 / (1 - eta) ** 2, rel=1e-12)
+        excess = -math.log(1 - eta) + eta * (3 - 2 * eta) / (1 - eta) ** 2
+        assert found["chemical_potential"] - math.log(rho) == pytest.approx(excess, rel=1e-12)
+        assert found["chemical_potential"] == pytest.approx(found["free_energy"] + found["pressure"] / rho)
+    plain = _thermodynamics(2.0, 0.1, 3.0)
+    assert (plain["pressure"], plain["chemical_potential"]) == pytest.approx((2 + 4 * 1.5, math.log(2) + 0.1 + 6))
+
+
+@pytest.mark.slow
+def test_parsons_lee_coexistence_is_a_common_tangent_and_tends_to_onsager_s_as_the_area_vanishes():
+    """Rectangles L/D = 2.5 (first-order nematic): with the rectangle's area a = LD the Parsons–Lee bifurcation
+    is the mapped second-virial one, the coexisting densities lie lower, and they are a common tangent of
+    ρ βF/N of the two branches (checked on the stored free energies); a → 0 gives the second-virial gap."""
+    from sesp.onsager import parsons_lee_density
+
+    area = _rectangle_area(2.5, 1.0)
+    onsager = phase_behaviour(area, orders=(2, 4)).sel(order=2)
+    found = phase_behaviour(area, orders=(2, 4), particle_area=2.5).sel(order=2)
+    assert int(found.continuous) == 0
+    assert float(found.bifurcation_density) == pytest.approx(
+        float(parsons_lee_density(float(onsager.bifurcation_density), 2.5)), rel=1e-12
+    )
+    low, high = float(found.coexistence_low), float(found.coexistence_high)
+    assert low < high < float(found.bifurcation_density) and high < float(onsager.coexistence_low)
+    # the common tangent, from the stored free energies: f(ρ) = ρ βF/N, isotropic by its closed form
+    rho = found.density.values
+    ordered = found.free_energy.where(found.order_parameter != 0).values
+    f_ordered = np.interp(high, rho[np.isfinite(ordered)], (rho * ordered)[np.isfinite(ordered)])
+    mean = float(area.mean())
+
+    def f_iso(r):  # ρ βF/N of the isotropic state: ρ (ln ρ − 1) + ρ² G(ρa) ⟨A_ex⟩/2
+        eta = r * 2.5
+        return r * (math.log(r) - 1) + r * (-math.log1p(-eta) + eta / (1 - eta)) / (2 * 2.5) * mean / 2
+
+    h = 1e-6 * low
+    slope = (f_iso(low + h) - f_iso(low - h)) / (2 * h)
+    assert f_ordered == pytest.approx(f_iso(low) + slope * (high - low), rel=2e-4)
+    tiny = phase_behaviour(area, orders=(2, 4), particle_area=1e-9).sel(order=2)
+    for name in ("coexistence_low", "coexistence_high"):
+        assert float(tiny[name]) == pytest.approx(float(onsager[name]), rel=1e-6)

@@ -345,19 +345,40 @@ SOLVER_STEPS = 20_000
 ORDERED = 1e-6  # |⟨cos kφ⟩| above which a solution counts as ordered
 
 
-def _state(psi, values, density, dphi) -> dict:
-    """Order parameters, free energy, pressure and chemical potential of the distribution ψ on the φ grid."""
+def _state(psi, values, density, dphi, particle_area: float = 0.0) -> dict:
+    """Order parameters, free energy, pressure and chemical potential of the distribution ψ on the φ grid, at
+    ``density`` (b⁻²) of the second-virial free energy, or of the Parsons–Lee one for ``particle_area`` > 0."""
     phi = np.arange(len(psi)) * dphi
     entropy = float(np.sum(psi * np.log(np.maximum(2 * np.pi * psi, 1e-300))) * dphi)
     energy = float(np.dot(psi, _convolved(values, psi, dphi)) * dphi)  # ∫∫ ψ ψ' A_ex(φ − φ')
     ks = np.arange(1, 7)
     order = np.array([np.sum(psi * np.cos(k * phi)) * dphi for k in ks])
+    return {"psi": psi, "order": order, **_thermodynamics(density, entropy, energy, particle_area)}
+
+
+def _excess_scale(density: float, particle_area: float) -> tuple[float, float]:
+    """Φ(ρ) and dΦ/dρ, the density factor of the excess free energy βF_ex/N = Φ(ρ) · ½∫∫ψψ'A_ex: ρ and 1 in
+    second-virial theory (``particle_area`` 0); ρ G(ρa) = [−ln(1 − η) + η/(1 − η)] / (2a), η = ρa, in
+    Parsons–Lee theory (:func:`parsons_lee_factor`), whose slope is [1/(1 − η) + 1/(1 − η)²] / 2."""
+    if particle_area == 0:
+        return density, 1.0
+    eta = density * particle_area
+    if not 0 <= eta < 1:
+        raise ValueError(f"packing fraction {eta:g} at density {density:g} b^-2: outside [0, 1)")
+    scale = (-math.log1p(-eta) + eta / (1 - eta)) / (2 * particle_area)
+    return scale, (1 / (1 - eta) + 1 / (1 - eta) ** 2) / 2
+
+
+def _thermodynamics(density: float, entropy: float, energy: float, particle_area: float = 0.0) -> dict:
+    """βF/N = ln ρ − 1 + σ + Φ(ρ) E/2 (σ = ∫ψ ln 2πψ, E = ∫∫ψψ'A_ex, Φ of :func:`_excess_scale`), its
+    pressure βP = ρ² ∂(βF/N)/∂ρ = ρ + ρ² Φ'(ρ) E/2 (b⁻²) and chemical potential βμ = βF/N + βP/ρ."""
+    scale, slope = _excess_scale(density, particle_area)
     return {
-        "psi": psi,
-        "order": order,  # ⟨cos kφ⟩, k = 1..6
-        "free_energy": math.log(density) - 1 + entropy + 0.5 * density * energy,  # βF/N
-        "pressure": density + 0.5 * density**2 * energy,  # βP, b⁻²
-        "chemical_potential": math.log(density) + entropy + density * energy,  # βμ
+        "entropy": entropy,
+        "energy": energy,
+        "free_energy": math.log(density) - 1 + entropy + 0.5 * scale * energy,  # βF/N
+        "pressure": density + 0.5 * density**2 * slope * energy,  # βP, b⁻²
+        "chemical_potential": math.log(density) + entropy + 0.5 * (scale + density * slope) * energy,  # βμ
     }
 
 
@@ -428,16 +449,29 @@ def onsager_solution(excluded_area, density: float, order: int = 2, *, strength:
     return _state(psi, values, density, dphi)
 
 
-def _coexistence(values, mean, branch):
-    """Densities (ρ_I, ρ_O) of isotropic and ordered states of equal βP and βμ, from the ordered branch
-    [(ρ, state), ...] (ascending ρ); None if the branch never crosses."""
-
-    def isotropic_at(pressure):  # βP = ρ + ρ² ⟨A_ex⟩ / 2 solved for ρ
+def _isotropic_at(pressure: float, mean: float, particle_area: float) -> float:
+    """b⁻²: the isotropic density of pressure βP (b⁻²), ⟨A_ex⟩ = ``mean``: ρ + ρ²⟨A_ex⟩/2 = βP solved for ρ
+    (second virial), or its Parsons–Lee form ρ + ρ² Φ'(ρ) ⟨A_ex⟩/2 = βP by bisection (increasing in ρ)."""
+    if particle_area == 0:
         return (-1 + math.sqrt(1 + 2 * mean * pressure)) / mean
+    lo, hi = 0.0, 1.0 / particle_area
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if _thermodynamics(mid, 0.0, mean, particle_area)["pressure"] < pressure:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def _coexistence(values, mean, branch, particle_area: float = 0.0):
+    """Densities (ρ_I, ρ_O) of isotropic and ordered states of equal βP and βμ, from the ordered branch
+    [(ρ, state), ...] (ascending ρ, states of the theory of ``particle_area``); None if it never crosses."""
 
     def gap(state):
-        rho_i = isotropic_at(state["pressure"])
-        return math.log(rho_i) + rho_i * mean - state["chemical_potential"], rho_i
+        rho_i = _isotropic_at(state["pressure"], mean, particle_area)
+        isotropic = _thermodynamics(rho_i, 0.0, mean, particle_area)  # ψ = 1/2π: σ = 0, E = ⟨A_ex⟩
+        return isotropic["chemical_potential"] - state["chemical_potential"], rho_i
 
     gaps = [(rho, *gap(state)) for rho, state in branch]
     for (r0, g0, i0), (r1, g1, i1) in zip(gaps, gaps[1:], strict=False):
@@ -453,7 +487,13 @@ def _coarser(size: int, at_least: int) -> int:
 
 
 def phase_behaviour(
-    excluded_area, orders=(1, 2, 4), *, span=(0.5, 2.0), points: int = 61, nphi: int = 256
+    excluded_area,
+    orders=(1, 2, 4),
+    *,
+    span=(0.5, 2.0),
+    points: int = 61,
+    nphi: int = 256,
+    particle_area: float = 0.0,
 ) -> xr.Dataset:
     """Which order appears first as the density rises, and how: the Onsager solution past the bifurcations.
 
@@ -464,6 +504,13 @@ def phase_behaviour(
     potential are stored per density, and the stable phase is the solution of lowest free energy. A branch
     that exists below its ρ*_k (a subcritical bifurcation) gives a first-order transition: its coexisting
     densities (equal βP and βμ) are found on it; otherwise the transition is continuous at ρ*_k.
+
+    With ``particle_area`` a > 0 (b², :func:`particle_area`) the free energy is Parsons–Lee's, the excess
+    term scaled by the hard-disk fluid's G(ρa) (:func:`parsons_lee_density`): the stationary ψ at ρ is the
+    second-virial one at ρG(ρa), so the branches are the same, relabelled in density; free energy, pressure
+    and chemical potential are Parsons–Lee's, and so are the coexisting densities they give. Which phase is
+    stable at a given ψ does not change (both theories differ from the isotropic state's by the same
+    function of ψ times a positive factor). a = 0 is the second-virial theory.
 
     Returns
     -------
@@ -487,7 +534,8 @@ def phase_behaviour(
     phi = np.arange(len(values)) * dphi
     mean = float(values.mean())
     first = float(unstable.min())
-    densities = np.linspace(span[0] * first, span[1] * first, int(points))
+    onsager = np.linspace(span[0] * first, span[1] * first, int(points))  # where the branches are solved
+    densities = np.asarray(parsons_lee_density(onsager, particle_area), dtype=float)  # the theory's own
     ks = [int(k) for k in unstable.order.values]
     order_parameter = np.zeros((len(densities), len(ks)))
     free_energy = np.zeros((len(densities), len(ks)))
@@ -496,23 +544,25 @@ def phase_behaviour(
         psi = np.exp(5.0 * np.cos(k * phi))
         branch = []
         for i in range(len(densities) - 1, -1, -1):  # down in density, each from the one above
-            psi = _solved(values, densities[i], psi + 1e-3 * (1 + np.cos(k * phi)) / (2 * np.pi), dphi, fold=k)
-            state = _state(psi, values, densities[i], dphi)
+            psi = _solved(values, onsager[i], psi + 1e-3 * (1 + np.cos(k * phi)) / (2 * np.pi), dphi, fold=k)
+            state = _state(psi, values, densities[i], dphi, particle_area)
             order_parameter[i, j] = state["order"][k - 1] if abs(state["order"][k - 1]) > ORDERED else 0.0
             free_energy[i, j] = state["free_energy"]
             if order_parameter[i, j]:
                 branch.append((densities[i], state))
         bifurcation = float(unstable.sel(order=k))
-        below = [rho for rho, _ in branch if rho < bifurcation * (1 - 2 / points)]
-        if not densities[0] < bifurcation < densities[-1]:
+        below = [
+            i for i in range(len(onsager)) if order_parameter[i, j] and onsager[i] < bifurcation * (1 - 2 / points)
+        ]
+        if not onsager[0] < bifurcation < onsager[-1]:
             continuous[j] = -1  # not reached in this span
         elif below:  # the ordered branch reaches below the instability: first order
-            pair = _coexistence(values, mean, sorted(branch, key=lambda item: item[0]))
+            pair = _coexistence(values, mean, sorted(branch, key=lambda item: item[0]), particle_area)
             if pair is not None:
                 low[j], high[j] = pair
         else:
             continuous[j] = 1
-    isotropic = np.log(densities) - 1 + 0.5 * densities * mean
+    isotropic = np.array([_thermodynamics(rho, 0.0, mean, particle_area)["free_energy"] for rho in densities])
     stack = np.column_stack([isotropic, np.where(order_parameter != 0, free_energy, np.inf)])
     stable = np.array([0, *ks])[np.argmin(stack, axis=1)]
     coords = {"density": ("density", densities, dict(DENSITY)), "order": ks}
@@ -521,7 +571,11 @@ def phase_behaviour(
             "order_parameter": (("density", "order"), order_parameter, {"units": "1", "long_name": "<cos k phi>"}),
             "free_energy": (("density", "order"), free_energy, {"units": "1", "long_name": "beta F / N"}),
             "stable_order": ("density", stable, {"units": "1", "long_name": "k of the stable phase (0: isotropic)"}),
-            "bifurcation_density": ("order", unstable.values, {**DENSITY, "long_name": "rho*_k"}),
+            "bifurcation_density": (
+                "order",
+                np.asarray(parsons_lee_density(unstable.values, particle_area), dtype=float),
+                {**DENSITY, "long_name": "rho*_k"},
+            ),
             "coexistence_low": ("order", low, {**DENSITY, "long_name": "isotropic coexisting density"}),
             "coexistence_high": ("order", high, {**DENSITY, "long_name": "ordered coexisting density"}),
             "continuous": (
@@ -534,14 +588,15 @@ def phase_behaviour(
     )
 
 
-def first_transition(excluded_area, orders=(1, 2, 4)) -> dict:
+def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 0.0) -> dict:
     """The first ordering transition as the density rises (see :func:`phase_behaviour`): ``order`` (k, 0 if
     none), ``density`` (b⁻²: the bifurcation ρ*_k of a continuous transition, the isotropic coexisting
     density of a first-order one), ``ordered_density`` (the ordered coexisting density; equal to
     ``density`` when continuous) and ``continuous`` (bool; False also for a branch that reaches below ρ*_k by
-    less than the density step, whose coexistence gap is then not resolved: both densities are ρ*_k)."""
+    less than the density step, whose coexistence gap is then not resolved: both densities are ρ*_k).
+    ``particle_area`` > 0: in Parsons–Lee theory (see :func:`phase_behaviour`)."""
     try:
-        found = phase_behaviour(excluded_area, orders)
+        found = phase_behaviour(excluded_area, orders, particle_area=particle_area)
     except ValueError:  # never unstable: no transition
         return {"order": 0, "density": math.nan, "ordered_density": math.nan, "continuous": False}
     ordered = found.stable_order.where(found.stable_order > 0, drop=True)
@@ -588,7 +643,8 @@ def parsons_lee_density(density, particle_area: float):
     The Parsons–Lee free energy is βF/N = ln ρ − 1 + ∫ψ ln(2πψ) + G(η) (ρ/2)∫∫ψψ'A_ex(φ − φ'), η = ρa: the
     second-virial excess term rescaled by the hard-disk fluid's (:func:`parsons_lee_factor`). Its stationary
     ψ is the Onsager one at ρG(η), so bifurcation densities ρ*_k (:func:`instabilities`) map exactly; the
-    coexisting densities of a first-order transition do not (pressure and chemical potential change too).
+    coexisting densities of a first-order transition do not (pressure and chemical potential change too):
+    :func:`phase_behaviour` and :func:`first_transition` with ``particle_area`` give them.
     An approximation, not an exact result: see the guide. A thin particle (a = 0) keeps its density."""
     target = np.asarray(density, dtype=float)
     area = float(particle_area)
