@@ -27,7 +27,7 @@ SHAPES = [
     ZED,
 ]
 
-# A sweep small enough for unit tests: 8 points of 24² × 16 states; {out} is the output folder.
+# A sweep small enough for unit tests: 8 points of 24² × 16 states, A_ex to 1e-3; {out} is the output folder.
 SMALL = """
 [sweep]
 name = "small"
@@ -45,6 +45,7 @@ nphi = 16
 
 [output]
 keep = ["excluded_area", "classes"]
+rtol = 1e-3
 """
 
 

@@ -207,3 +207,47 @@ def test_topology_help_states_the_defaults_the_engine_uses():
     stated = {a.dest: float(re.search(r"\(default ([\d.e-]+)\)", a.help)[1]) for a in sub.choices["topology"]._actions
               if a.dest in ("resolution", "base", "step", "width")}  # fmt: skip
     assert stated == {"resolution": RESOLUTION, "base": BASE, "step": math.degrees(STEP), "width": math.degrees(WIDTH)}
+
+
+STAPLE_ROWS = "-0.5 0.5\n-0.5 -0.5\n0.5 -0.5\n0.5 0.5\n"
+
+
+@pytest.mark.parametrize("shape", ["n8", "staple"])
+def test_every_route_to_the_excluded_area_gives_the_same_number_and_bar(shape, tmp_path, capsys):
+    """n = 8 at 90° and a staple of thickness 0.05 b: `sesp.excluded_area`, `sesp area`, `sesp info` on a
+    command-line scan and on a Python scan, and a sweep report the same ⟨A_ex⟩ and error bar, digit for digit
+    (and the sweep the same first instability as `sesp area`)."""
+    from sesp import Grid, Polyline, SeSP, excluded_area, save, scan
+    from sesp.report import area_text
+    from sesp.sweep import run
+
+    from cases import write_sweep
+
+    rtol = "1e-3"  # the defaults' 1e-5 takes seconds more per route; the route, not the tolerance, is tested
+    if shape == "n8":
+        particle, args = SeSP(n=8, opening=math.radians(90)), ["--n", "8", "--opening", "90"]
+        toml = "[particle]\nn = 8\nopening = 90\n"
+    else:
+        (tmp_path / "staple.txt").write_text(STAPLE_ROWS)
+        particle = Polyline(np.loadtxt(tmp_path / "staple.txt"), thickness=0.05)
+        args = ["--vertices", str(tmp_path / "staple.txt"), "--thickness", "0.05"]
+        toml = "[particle]\nvertices = [[-0.5, 0.5], [-0.5, -0.5], [0.5, -0.5], [0.5, 0.5]]\nthickness = 0.05\n"
+    best = excluded_area(particle, rtol=float(rtol))
+    expected = area_text(float(best.mean_excluded_area), float(best.mean_excluded_area_error))
+    assert main(["-q", "area", *args, "--rtol", rtol, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert area_text(out["mean_excluded_area"], out["mean_excluded_area_error"]) == expected
+    cli = tmp_path / "cli.nc"
+    assert main(["-q", "scan", *args, "--nx", "16", "--nphi", "8", "-o", str(cli)]) == 0
+    python = save(scan(particle, Grid(16, nphi=8)), tmp_path / "py.nc")
+    for path in (cli, python):
+        assert main(["info", "--rtol", rtol, str(path)]) == 0
+        assert f"A_ex     : {expected} (of the {best.attrs['excluded_area_of']};" in capsys.readouterr().out
+    collected = run(write_sweep(tmp_path, f"{toml}\n[output]\nrtol = {rtol}\n"), workers=1, progress=False)
+    swept = load(collected)
+    for name in ("mean_excluded_area", "mean_excluded_area_error"):
+        assert float(swept[name]) == float(best[name])
+    assert float(swept.second_virial_coefficient_error) == float(best.mean_excluded_area_error) / 2
+    leading = int(swept.leading_instability)  # and so B₂'s spectrum: the first instability as `sesp area` gives it
+    assert leading == out["leading_instability"]
+    assert float(swept.instability_density.sel(order=leading)) == out["leading_instability_density"]

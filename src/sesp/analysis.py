@@ -8,6 +8,8 @@ classes, excluded components and the field itself.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import xarray as xr
 
@@ -15,8 +17,8 @@ from .certified import BASE, RESOLUTION, certified_components, check_resolution
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
-from .measures import SCANLINE_ROWS, closed_pair_excluded_area, excluded_area
-from .onsager import first_transition, onsager_variables
+from .measures import RTOL, closed_pair_excluded_area, excluded_area
+from .onsager import first_transition, onsager_variables, particle_area
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
@@ -73,6 +75,7 @@ def analyze(
     segments: int = DEFAULT_SEGMENTS,
     keep=("excluded_area",),
     resolution: float = RESOLUTION,
+    rtol: float = RTOL,
     engine: str = "raster",
     memory_limit: int | None = None,
     progress: bool = False,
@@ -86,17 +89,18 @@ def analyze(
     keep : sequence of str
         What to return, any of:
 
-        * ``"excluded_area"``: always returned: ``excluded_area(phi)`` (b²) at the
-          grid's orientations from :func:`sesp.excluded_area` at the pair's
-          segments and 512 line spacings, not refined (of the smooth curves
-          for two SeSPs with ``segments`` a multiple of 4, else of the
-          polygons: attribute ``excluded_area_of``), with its error bar
-          ``excluded_area_error(phi)``, ``normalized_excluded_area(phi)``, the
-          orientation means ``mean_excluded_area`` (± ``mean_excluded_area_error``)
-          and ``mean_normalized_excluded_area``, and ``closed_excluded_area``
+        * ``"excluded_area"``: always returned: sesp's A_ex,
+          :func:`sesp.excluded_area` of the particles refined to ``rtol``
+          (the same call as ``sesp area``; of the smooth curves for two SeSPs,
+          else of the polylines: attribute ``excluded_area_of``): the
+          orientation mean ``mean_excluded_area`` ± ``mean_excluded_area_error``
+          as it gives them, and ``excluded_area(phi)`` ±
+          ``excluded_area_error(phi)`` at the grid's orientations at the
+          settings it reached; ``normalized_excluded_area(phi)``,
+          ``mean_normalized_excluded_area``, and ``closed_excluded_area``
           (b², the reference of the normalisation; NaN for polylines, which have
           no closed shape); and what :func:`sesp.onsager.onsager_variables`
-          derives from A_ex(φ): the second virial coefficient (±
+          derives from the refined A_ex(φ), as ``sesp area``: the second virial coefficient (±
           ``second_virial_coefficient_error``), the orientational spectrum over
           ``k`` and the isotropic instabilities over ``order``, with error bars
           that hold whatever the correlation of the per-φ errors. Kept alone it
@@ -119,7 +123,13 @@ def analyze(
           second-virial theory (:func:`sesp.onsager.first_transition`):
           ``transition_order`` (k, 0: none), ``transition_density`` and
           ``ordered_density`` (b⁻², the coexisting densities of a first-order
-          transition) and ``continuous``;
+          transition), ``continuous`` and ``transition_density_error`` (b⁻²,
+          that of a continuous transition; NaN for a first-order one, whose
+          gap is not given an error bar); the same densities in Parsons–Lee
+          theory, ``parsons_lee_transition_density`` and
+          ``parsons_lee_ordered_density``, with ``particle_area`` a (b²,
+          :func:`sesp.onsager.particle_area`; equal to the second-virial ones
+          for a thin particle, NaN for two different particles);
         * ``"third_virial"``: ``third_virial_coefficient`` ± error (b⁴) and
           ``reduced_third_virial`` B₃/B₂² (:func:`sesp.virial.third_virial` at its
           defaults: 129 nodes, 32 orientations; a few seconds);
@@ -129,6 +139,9 @@ def analyze(
         As in :func:`sesp.scan`.
     resolution : float
         b: the resolution ε of the topology count (kept "topology").
+    rtol : float
+        Relative error bar of ⟨A_ex⟩ that :func:`sesp.excluded_area` refines to (default 1e-5, as
+        ``sesp area``).
     memory_limit : int, optional
         Bytes the stored fields may take (see :func:`sesp.scan`).
     progress : bool
@@ -153,9 +166,9 @@ def analyze(
     grid = resolve_grid(pair, grid)
     check_memory(grid, keep, memory_limit)
     ds = _lattice_pass(pair, grid, keep, engine, progress) if needs_lattice(keep) else _no_pass(pair, grid)
-    _add_excluded_area(ds, pair, grid)
+    best = _add_excluded_area(ds, pair, grid, rtol)
     _add_normalized(ds, pair, grid)
-    for name, value in onsager_variables(ds).items():  # the scanlines' error bars, carried through as bounds
+    for name, value in onsager_variables(best).items():  # from the refined A_ex(φ), as `sesp area`
         ds[name] = value
     if "entangled_area" in ds:
         ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
@@ -164,7 +177,7 @@ def analyze(
     if "topology" in keep:
         _add_components(ds, pair, resolution)
     if "phases" in keep:
-        _add_phases(ds)
+        _add_phases(ds, best, pair)
     if "third_virial" in keep:
         found = third_virial(pair.particle, pair.other, segments=pair.segments)
         for name in ("third_virial_coefficient", "third_virial_coefficient_error", "reduced_third_virial"):
@@ -195,14 +208,30 @@ def _no_pass(pair, grid) -> xr.Dataset:
     return xr.Dataset(pair_variables(pair), coords=coords(grid, ["phi"]), attrs=attrs)
 
 
-def _add_excluded_area(ds, pair, grid):
-    """A_ex(φ) at the grid's orientations with error bars, in place: :func:`sesp.excluded_area` at the pair's
-    segments and SCANLINE_ROWS line spacings, unrefined (a sweep's settings are its own)."""
-    lines = excluded_area(pair, segments=pair.segments, nphi=grid.nphi, rows=SCANLINE_ROWS, rtol=None)
-    for name in ("excluded_area", "excluded_area_error", "mean_excluded_area", "mean_excluded_area_error"):
-        ds[name] = lines[name].assign_coords(phi=ds.phi) if "phi" in lines[name].dims else lines[name]
-    ds.attrs["excluded_area_of"] = lines.attrs["excluded_area_of"]
-    ds.attrs["scanline_rows"] = lines.attrs["rows"]
+def _add_excluded_area(ds, pair, grid, rtol):
+    """sesp's A_ex of the pair's particles, in place: :func:`sesp.excluded_area` refined to ``rtol``, its
+    orientation mean and error bar as it gives them, and A_ex(φ) at the grid's orientations; returns its
+    result, on the orientations it was refined on."""
+    other = None if pair.identical else pair.other
+    best = excluded_area(pair.particle, other, rtol=rtol)
+    on_grid = _at_orientations(best, pair.particle, other, grid.phi)
+    for name in ("excluded_area", "excluded_area_error"):
+        ds[name] = on_grid[name].assign_coords(phi=ds.phi)
+    for name in ("mean_excluded_area", "mean_excluded_area_error"):
+        ds[name] = best[name]
+    ds.attrs["excluded_area_of"] = best.attrs["excluded_area_of"]
+    ds.attrs.update({f"excluded_area_{k}": best.attrs[k] for k in ("segments", "nphi", "rows", "rtol", "converged")})
+    return best
+
+
+def _at_orientations(best, particle, other, phi) -> xr.Dataset:
+    """A_ex(φ) of ``best`` at the orientations ``phi`` (2πk/len(phi)): taken from it where they are among its
+    own, else evaluated there at the settings it reached."""
+    step, rest = divmod(best.sizes["phi"], len(phi))
+    if rest == 0 and np.allclose(best.phi.values[::step], phi, rtol=0, atol=1e-12):
+        return best.isel(phi=slice(None, None, step))
+    settings = {k: int(best.attrs[k]) for k in ("segments", "rows")}
+    return excluded_area(particle, other, rtol=None, nphi=len(phi), **settings)
 
 
 def _add_normalized(ds, pair, grid):
@@ -218,7 +247,7 @@ def _add_normalized(ds, pair, grid):
     ds["normalized_excluded_area_error"] = (ds.excluded_area_error / reference).assign_attrs(
         units="1", long_name="error bar of A_ex(φ) / A_ex of the closed shape"
     )
-    ds["mean_normalized_excluded_area"] = (area.mean("phi") / reference).assign_attrs(
+    ds["mean_normalized_excluded_area"] = (ds.mean_excluded_area / reference).assign_attrs(
         units="1", long_name="orientation-averaged A_ex / A_ex of the closed shape"
     )
     ds["mean_normalized_excluded_area_error"] = (ds.mean_excluded_area_error / reference).assign_attrs(
@@ -229,9 +258,11 @@ def _add_normalized(ds, pair, grid):
     )
 
 
-def _add_phases(ds):
-    """The first ordering transition of the isotropic state (Onsager theory), in place."""
-    found = first_transition(ds)
+def _add_phases(ds, best, pair):
+    """The first ordering transition of the isotropic state for the refined A_ex(φ) ``best``, in place: in
+    second-virial (Onsager) theory, and in Parsons–Lee theory with the particle's area (the same for thin
+    particles; NaN for a mixture's pair)."""
+    found = first_transition(best)
     ds["transition_order"] = xr.DataArray(found["order"], attrs={"units": "1", "long_name": "k of the first order"})
     ds["transition_density"] = xr.DataArray(
         found["density"], attrs={**DENSITY, "long_name": "isotropic density at the first transition"}
@@ -240,6 +271,22 @@ def _add_phases(ds):
         found["ordered_density"], attrs={**DENSITY, "long_name": "ordered density at the first transition"}
     )
     ds["continuous"] = xr.DataArray(int(found["continuous"]), attrs={"units": "1", "long_name": "1: continuous"})
+    bar = math.nan  # the error bar of a continuous transition's density: its instability's, from A_ex(φ)'s bars
+    if found["continuous"] and "instability_density_error" in ds and found["order"] in ds.order:
+        bar = float(ds.instability_density_error.sel(order=found["order"]))
+    ds["transition_density_error"] = xr.DataArray(
+        bar, attrs={**DENSITY, "long_name": "error bar of a continuous transition's density (NaN: first order)"}
+    )
+    area = particle_area(pair.particle) if pair.identical else math.nan
+    if math.isnan(area):
+        found = {"density": math.nan, "ordered_density": math.nan}
+    elif area > 0:  # a thin particle's Parsons–Lee densities are its second-virial ones
+        found = first_transition(best, particle_area=area)
+    ds["particle_area"] = xr.DataArray(area, attrs={**AREA, "long_name": "area a the thick particle covers"})
+    for name, key, what in (("transition", "density", "isotropic"), ("ordered", "ordered_density", "ordered")):
+        ds[f"parsons_lee_{name}_density"] = xr.DataArray(
+            found[key], attrs={**DENSITY, "long_name": f"{what} density at the first transition, Parsons-Lee"}
+        )
 
 
 def _add_components(ds, pair, resolution):

@@ -40,10 +40,21 @@ def _add_shape_args(p: argparse.ArgumentParser, segments: int | None = 256):
     p.add_argument("--segments", type=int, default=segments, help=f"polyline segments N (default {refined})")
 
 
+def _add_vertices_arg(p: argparse.ArgumentParser):
+    p.add_argument(
+        "--vertices",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="a polyline of your own instead of a SeSP: a text file of x y rows (b), its centre at 0 0",
+    )
+
+
 def _add_scan(sub):
     p = sub.add_parser("scan", help="scan the (x, y, φ) grid of one particle pair and save it")
     _add_shape_args(p)
     p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
+    _add_vertices_arg(p)
     p.add_argument("--nx", type=int, default=256, help="cells along x (default 256)")
     p.add_argument("--ny", type=int, default=None, help="cells along y (default: nx)")
     p.add_argument("--nphi", type=int, default=128, help="orientations (default 128)")
@@ -71,7 +82,7 @@ def _cmd_scan(args) -> int:
     from .grid import Grid
     from .io import save
 
-    particle = _shape_from_args(args, args.opening)
+    particle = _particle_from_args(args)
     grid = Grid(args.nx, args.ny, args.nphi)
     _announce_compile()
     ds = scan(
@@ -89,13 +100,7 @@ def _add_area(sub):
     )
     _add_shape_args(p, segments=None)
     p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
-    p.add_argument(
-        "--vertices",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="a polyline of your own instead of a SeSP: a text file of x y rows (b), its centre at 0 0",
-    )
+    _add_vertices_arg(p)
     p.add_argument("--rtol", type=float, default=1e-5, help="relative error bar of ⟨A_ex⟩ to reach (default 1e-5)")
     p.add_argument("--nphi", type=int, default=None, help="orientations (default: refined from 128)")
     p.add_argument(
@@ -105,7 +110,7 @@ def _add_area(sub):
     p.set_defaults(func=_cmd_area)
 
 
-def _particle_for_area(args):
+def _particle_from_args(args):
     """The SeSP of the shape arguments, or the polyline of ``--vertices`` (with ``--thickness``)."""
     if args.vertices is None:
         return _shape_from_args(args, args.opening)
@@ -125,8 +130,9 @@ def _cmd_area(args) -> int:
 
     from .measures import excluded_area
     from .onsager import ORDER_NAMES, onsager_variables
+    from .report import area_text
 
-    particle = _particle_for_area(args)
+    particle = _particle_from_args(args)
     _announce_compile()
     ds = excluded_area(
         particle, rtol=args.rtol, segments=args.segments, nphi=args.nphi, rows=args.rows, progress=not args.quiet
@@ -166,9 +172,9 @@ def _cmd_area(args) -> int:
     print(f"{what}: A_ex of the {attrs['excluded_area_of']}")
     print(f"  ({attrs['nphi']} orientations, {attrs['rows']} line spacings; rtol {args.rtol:g}"
           f" {'met' if attrs['converged'] else 'NOT met'})")  # fmt: skip
-    print(f"<A_ex> = {mean:.8g} ± {error:.1e} b^2")
+    print(f"<A_ex> = {area_text(mean, error)}")
     b2, b2_error = float(found["second_virial_coefficient"]), float(found["second_virial_coefficient_error"])
-    print(f"B2     = {b2:.8g} ± {b2_error:.1e} b^2")
+    print(f"B2     = {area_text(b2, b2_error)}")
     if leading:
         reduced = density * mean
         print(f"first isotropic instability: {ORDER_NAMES.get(leading, f'k = {leading}')} (k = {leading}) at"
@@ -181,6 +187,13 @@ def _cmd_area(args) -> int:
 def _add_info(sub):
     p = sub.add_parser("info", help="print the parameters and excluded area of a saved scan")
     p.add_argument("file", type=Path, help="any file sesp wrote: scan, summary, sweep point or collected sweep")
+    p.add_argument(
+        "--rtol",
+        type=float,
+        default=1e-5,
+        help="for a scan, which stores the field alone: the relative error bar of the A_ex computed for its"
+        " particles (default 1e-5, as `sesp area`)",
+    )
     p.set_defaults(func=_cmd_info)
 
 
@@ -188,7 +201,7 @@ def _cmd_info(args) -> int:
     from .io import load
     from .report import describe
 
-    print(describe(load(args.file)))
+    print(describe(load(args.file), rtol=args.rtol))
     return 0
 
 

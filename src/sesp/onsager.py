@@ -93,6 +93,19 @@ def _area_and_error(excluded_area, error, correlated):
     return excluded_area.excluded_area, error, correlated
 
 
+def _has(excluded_area, name: str) -> bool:
+    """Whether ``excluded_area`` is a Dataset holding the variable ``name``."""
+    return isinstance(excluded_area, xr.Dataset) and name in excluded_area
+
+
+def _mean_area(excluded_area) -> xr.DataArray:
+    """⟨A_ex⟩ (b²): a Dataset's ``mean_excluded_area`` where it has one (the mean over the orientations
+    :func:`sesp.excluded_area` refined to), else the mean of A_ex(φ) over its φ grid."""
+    if _has(excluded_area, "mean_excluded_area"):
+        return excluded_area.mean_excluded_area
+    return _area(excluded_area).mean("phi")
+
+
 def _area(excluded_area) -> xr.DataArray:
     return _area_and_error(excluded_area, 0.0, False)[0]
 
@@ -198,14 +211,16 @@ def orientational_spectrum(
 def second_virial(excluded_area) -> xr.DataArray:
     """B₂ = ⟨A_ex⟩ / 2 = a₀/4, in b² (the orientation average of A_ex(φ) over the uniform φ grid).
 
-    From a Dataset with ``mean_excluded_area_error`` (:func:`sesp.excluded_area`) the result carries its
-    error bar, half of ⟨A_ex⟩'s, as the attribute ``error`` (b²; the largest over any other dimensions).
+    From a Dataset with ``mean_excluded_area`` (:func:`sesp.excluded_area`, :func:`sesp.analyze`) ⟨A_ex⟩ is
+    that variable, the mean over the orientations it was refined on; with ``mean_excluded_area_error`` the
+    result carries its error bar, half of ⟨A_ex⟩'s, as the attribute ``error`` (b²; the largest over any
+    other dimensions).
     """
     area = _area(excluded_area)
     _check_phi(area)
-    b2 = (area.mean("phi") / 2).rename("second_virial_coefficient")
+    b2 = (_mean_area(excluded_area) / 2).rename("second_virial_coefficient")
     b2 = b2.assign_attrs(**AREA, long_name="second virial coefficient B2")
-    if isinstance(excluded_area, xr.Dataset) and "mean_excluded_area_error" in excluded_area:
+    if _has(excluded_area, "mean_excluded_area_error"):
         b2.attrs["error"] = float(excluded_area.mean_excluded_area_error.max()) / 2
     return b2
 
@@ -248,16 +263,16 @@ def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correl
     orders = sorted({int(k) for k in orders})
     if not orders or orders[0] < 1:
         raise ValueError(f"orders must be integers >= 1, got {orders}")
+    mean = _mean_area(excluded_area)
     excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     spectrum = orientational_spectrum(excluded_area, max(orders), error=error, correlated=correlated).sel(k=orders)
     spectrum = spectrum.rename(k="order")
     spectrum["order"].attrs.update(long_name="order k of the isotropic instability", units="1")
     a, a_error = spectrum.a, spectrum.a_error
-    a0 = abs(excluded_area.mean("phi")) * 2
+    a0 = abs(mean) * 2
     unstable = (a < 0) & (-a > SIGNIFICANCE * a_error.fillna(0)) & (-a > 1e-9 * a0)
     density = (-2.0 / a).where(unstable)
     density_error = (2.0 * a_error / a**2).where(unstable)
-    mean = excluded_area.mean("phi")
     ds = xr.Dataset(
         {
             "a": a,
@@ -292,13 +307,13 @@ def entangled_neighbours(entangled_area: xr.DataArray, density: float) -> xr.Dat
 
 
 def contact_density(excluded_area, contacts: float) -> xr.DataArray:
-    """The density (b⁻²) at which the random-contact estimate ρ ⟨A_ex⟩ reaches ``contacts`` neighbours."""
-    excluded_area = _area(excluded_area)
-    _check_phi(excluded_area)
+    """The density (b⁻²) at which the random-contact estimate ρ ⟨A_ex⟩ reaches ``contacts`` neighbours
+    (⟨A_ex⟩ as for :func:`second_virial`)."""
+    _check_phi(_area(excluded_area))
     z = float(contacts)
     if not (math.isfinite(z) and z > 0):
         raise ValueError(f"contacts must be a finite number > 0, got {contacts!r}")
-    return (z / excluded_area.mean("phi")).assign_attrs(**DENSITY, long_name=f"density of {z:g} mean contacts")
+    return (z / _mean_area(excluded_area)).assign_attrs(**DENSITY, long_name=f"density of {z:g} mean contacts")
 
 
 def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, error="auto", correlated=False) -> dict:
@@ -313,7 +328,7 @@ def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, 
     """
     b2 = {"second_virial_coefficient": second_virial(excluded_area).drop_attrs()}
     b2["second_virial_coefficient"].attrs.update(**AREA, long_name="second virial coefficient B2")
-    if isinstance(excluded_area, xr.Dataset) and "mean_excluded_area_error" in excluded_area:
+    if _has(excluded_area, "mean_excluded_area_error"):
         b2["second_virial_coefficient_error"] = (excluded_area.mean_excluded_area_error / 2).assign_attrs(
             **AREA, long_name="error bar of B2"
         )

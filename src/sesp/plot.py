@@ -785,6 +785,15 @@ PHASE_COLORS = {0: "0.9", 1: "tab:red", 2: "tab:blue", 4: "tab:green"}
 PHASE_FILLS = {1: "#fcd5c8", 2: "#d4e4f4", 4: "#d5efd0"}  # opaque light tints: no seams where bands meet
 
 
+def _parsons_lee_differs(ds) -> bool:
+    """Whether ``ds`` holds Parsons–Lee transition densities that differ from the second-virial ones."""
+    if "parsons_lee_transition_density" not in ds:
+        return False
+    pl, plain = ds.parsons_lee_transition_density.values, ds.transition_density.values
+    both = np.isfinite(pl) & np.isfinite(plain)
+    return bool(np.any(pl[both] != plain[both]))
+
+
 def phase_diagram(ds, *, axes=None):
     """Density of the first ordering transition against the opening Ψ, one panel per n (Onsager theory).
 
@@ -793,7 +802,9 @@ def phase_diagram(ds, *, axes=None):
     transition) and ``continuous`` (as ``benchmarks/phase_diagram.py`` writes it, from
     :func:`sesp.onsager.first_transition`). Below the line the isotropic state is stable; the band above is
     coloured by the order that appears; first-order transitions are hollow markers with their coexistence
-    gap drawn as a bar. Returns the figure.
+    gap drawn as a bar. ``transition_density_error`` (a sweep's, where present) is drawn as error bars, and
+    ``parsons_lee_transition_density``, where it differs from the second-virial density (thick particles),
+    as a dashed line. Returns the figure.
     """
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
@@ -810,7 +821,8 @@ def phase_diagram(ds, *, axes=None):
     axes = np.atleast_1d(axes)
     degrees = np.degrees(ds.opening.values)
     top = float(np.nanmax(ds.ordered_density.values)) * 3
-    bottom = float(np.nanmin(ds.transition_density.values)) / 3
+    lowest = ["transition_density"] + ["parsons_lee_transition_density"] * _parsons_lee_differs(ds)
+    bottom = min(float(np.nanmin(ds[name].values)) for name in lowest) / 3
     for ax, n in zip(axes, ns, strict=True):
         row = ds.sel(n=n)
         rho, order = row.transition_density.values, row.transition_order.values.astype(int)
@@ -819,6 +831,10 @@ def phase_diagram(ds, *, axes=None):
             if k and np.isfinite(rho[i : i + 2]).all():
                 ax.fill_between(degrees[i : i + 2], rho[i : i + 2], top, color=PHASE_FILLS[k], linewidth=0)
         ax.plot(degrees, rho, color="k", lw=1)
+        if "transition_density_error" in row:
+            ax.errorbar(degrees, rho, yerr=row.transition_density_error.values, fmt="none", ecolor="k", lw=1)
+        if _parsons_lee_differs(row):
+            ax.plot(degrees, row.parsons_lee_transition_density.values, color="0.35", lw=1, ls="--")
         for d, r, hi, k, cont in zip(degrees, rho, row.ordered_density.values, order, row.continuous.values):
             if not k:
                 continue
@@ -840,7 +856,13 @@ def phase_diagram(ds, *, axes=None):
         Line2D([], [], marker="o", color="k", linestyle="", label="continuous"),
         Line2D([], [], marker="o", color="k", markerfacecolor="white", linestyle="", label="first order (gap)"),
     ]
+    if _parsons_lee_differs(ds):
+        handles.append(Line2D([], [], color="0.35", ls="--", label="Parsons-Lee"))
     fig = axes[0].figure
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
-    fig.suptitle("first ordering transition of the isotropic state (second-virial Onsager theory)", fontsize=10)
+    thickness = float(ds.thickness) if "thickness" in ds.coords and ds.thickness.ndim == 0 else None
+    thickness = ds.attrs.get("thickness", thickness)
+    what = "second-virial Onsager theory" + ("; dashed: Parsons-Lee" if _parsons_lee_differs(ds) else "")
+    particles = f"SeSPs of thickness {thickness:g} b" if thickness else "thin SeSPs"
+    fig.suptitle(f"first ordering transition of the isotropic state, {particles} ({what})", fontsize=10)
     return fig

@@ -6,10 +6,12 @@ import math
 
 import numpy as np
 
-from .dataset import format_of, grid_of
-from .measures import closed_excluded_area, lattice_excluded_area
+from .dataset import format_of, grid_of, pair_of
+from .measures import RTOL, closed_excluded_area, excluded_area, lattice_excluded_area
 
 __all__ = ["describe"]
+
+SHOWN_POINTS = 12  # a collected sweep of at most this many points lists ⟨A_ex⟩ at each
 
 
 def _particle_line(attrs, prefix) -> str:
@@ -25,20 +27,32 @@ def _particle_line(attrs, prefix) -> str:
     return f"{prefix:9s}: {shape}, N={attrs[f'{prefix}_segments']}, length={attrs[f'{prefix}_length']:.6g} b{thick}"
 
 
-def _area_line(ds) -> str:
-    """A_ex with its error bar and what it is of (scanlines), or the lattice's count of a bare field."""
-    area = lattice_excluded_area(ds)
+def area_text(mean: float, error: float) -> str:
+    """⟨A_ex⟩ ± its error bar as every command prints it."""
+    return f"{mean:.8g} ± {error:#.2g} b^2"
+
+
+def _area_line(ds, rtol: float) -> str:
+    """sesp's A_ex with its error bar: as the file stores it, else :func:`sesp.excluded_area` of the file's
+    particles, computed now; beside it the lattice count of a stored field, that field's own measure."""
     if "mean_excluded_area_error" in ds:
-        area = float(ds.mean_excluded_area)
-        text = f"A_ex     : {area:.8g} ± {float(ds.mean_excluded_area_error):.2g} b^2"
-        text += f" (scanlines, {ds.attrs.get('excluded_area_of', 'polygons')})"
+        mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+        text = f"A_ex     : {area_text(mean, error)} (of the {ds.attrs.get('excluded_area_of', 'polygons')})"
     else:
-        text = f"A_ex     : {area:.8g} b^2 (lattice count; `sesp area` gives A_ex with an error bar)"
+        pair = pair_of(ds)
+        best = excluded_area(pair.particle, None if pair.identical else pair.other, rtol=rtol)
+        mean, error = float(best.mean_excluded_area), float(best.mean_excluded_area_error)
+        text = (
+            f"A_ex     : {area_text(mean, error)} (of the {best.attrs['excluded_area_of']}; sesp.excluded_area"
+            f" of the file's particles, rtol {best.attrs['rtol']:g})"
+        )
+    if "allowed" in ds:
+        text += f"\n           the field's lattice count {lattice_excluded_area(ds):.8g} b^2 (its own measure)"
     try:
         closed = closed_excluded_area(ds)
     except ValueError:  # a Polyline has no closed shape
         return text
-    return f"{text}\n           A_ex / A_ex(closed) = {area / closed:.6g}; closed {closed:.6g} b^2"
+    return f"{text}\n           A_ex / A_ex(closed) = {mean / closed:.6g}; closed {closed:.6g} b^2"
 
 
 def _topology_line(ds) -> str:
@@ -48,11 +62,21 @@ def _topology_line(ds) -> str:
     return f"topology : {count} excluded components at resolution {ds.excluded_components.attrs['resolution']:g} b"
 
 
+def _point_label(point, swept) -> str:
+    """The swept parameters of one point of a collected sweep, openings in degrees."""
+    parts = []
+    for dim in swept:
+        value = float(point[dim])
+        parts.append(f"{dim} {math.degrees(value):g} deg" if dim.endswith("opening") else f"{dim} {value:g}")
+    return ", ".join(parts)
+
+
 def _sweep_lines(ds) -> list:
+    """The swept parameters and their ranges, the grid, and ⟨A_ex⟩ ± its error bar at each point (up to
+    ``SHOWN_POINTS`` of them)."""
     lines = [f"sweep    : {ds.attrs.get('sweep_name')}"]
-    for dim in ds.dims:
-        if dim in ("phi", "y", "x", "component"):
-            continue
+    swept = ds.mean_excluded_area.dims if "mean_excluded_area" in ds else ()
+    for dim in swept:
         values = ds[dim].values
         shown = np.degrees(values) if dim.endswith("opening") else values
         unit = " deg" if dim.endswith("opening") else ""
@@ -60,11 +84,22 @@ def _sweep_lines(ds) -> list:
     grid = [f"{k}={ds.attrs[k]}" for k in ("nx", "ny", "nphi") if k in ds.attrs]
     if grid:
         lines.append(f"grid     : {' '.join(grid)}")
+    if "mean_excluded_area_error" in ds and ds.mean_excluded_area.size <= SHOWN_POINTS:
+        stacked = ds[["mean_excluded_area", "mean_excluded_area_error"]]
+        stacked = stacked.stack(point=swept) if swept else stacked.expand_dims("point")
+        for i in range(stacked.sizes["point"]):
+            point = stacked.isel(point=i)
+            text = area_text(float(point.mean_excluded_area), float(point.mean_excluded_area_error))
+            label = _point_label(point, swept)
+            lines.append(f"A_ex     : {text}" + (f" at {label}" if label else ""))
     return lines
 
 
-def describe(ds) -> str:
-    """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo)."""
+def describe(ds, *, rtol: float = RTOL) -> str:
+    """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo).
+
+    A scan stores the field alone: its A_ex line is :func:`sesp.excluded_area` of its particles, computed
+    to ``rtol`` (a few seconds; the default is ``sesp area``'s)."""
     attrs = ds.attrs
     kind = format_of(ds)
     lines = [f"{kind} file written by sesp {attrs.get('sesp_version')}"]
@@ -81,7 +116,7 @@ def describe(ds) -> str:
             f"grid     : nx={grid.nx} ny={grid.ny} nphi={grid.nphi} half_width={grid.half_width:.6g} b"
             + (f", engine={attrs['engine']}" if "engine" in attrs else "")
         )
-        lines.append(_area_line(ds))
+        lines.append(_area_line(ds, rtol))
         if "excluded_components" in ds:
             lines.append(_topology_line(ds))
     names = ", ".join(f"{name}{tuple(var.dims) if var.dims else ''}" for name, var in ds.data_vars.items())

@@ -42,6 +42,7 @@ the shape keys, in ``[particle]`` or ``[other]``:
     [output]                    # optional; default keep = ["excluded_area"]
     keep = ["excluded_area", "classes", "topology"]   # and/or "phases", "third_virial", "allowed" (the field)
     resolution = 1e-5           # b: the resolution of the topology count (default 1e-5)
+    rtol = 1e-5                 # relative error bar of <A_ex> (default 1e-5, as `sesp area`)
 
 The shortest sweep file names its particles alone:
 
@@ -71,7 +72,7 @@ import threading
 import time
 import tomllib
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numba
@@ -84,6 +85,7 @@ from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
 from .fileprobe import probe
 from .grid import Grid
 from .io import load, save
+from .measures import RTOL
 from .pair import Pair
 from .progress import progress_bar
 from .regions import summarize
@@ -106,7 +108,7 @@ SCHEMA = {
     },
     "other": {"n": float, "m": float, "aspect": float, "opening": float, "thickness": float, "vertices": list},
     "grid": {"nx": int, "ny": int, "nphi": int},
-    "output": {"keep": list, "resolution": float},
+    "output": {"keep": list, "resolution": float, "rtol": float},
 }
 REQUIRED = {"particle": ("n", "opening")}
 # What a sweep file may leave out: the output folder (results/<file stem>, beside the file), degrees, this grid
@@ -115,7 +117,7 @@ DEFAULT_ANGLES = "degrees"
 DEFAULT_GRID = {"nx": 128, "nphi": 128}
 MANIFEST = "sweep.json"
 # Version of what a point file holds: points written under another version are recomputed, not mixed in.
-POINT_FORMAT = 4
+POINT_FORMAT = 5
 
 
 class SweepError(ValueError):
@@ -221,6 +223,7 @@ class SweepSpec:
     keep: tuple
     source: str
     resolution: float = RESOLUTION
+    rtol: float = RTOL
 
     @property
     def dims(self) -> list[str]:
@@ -254,7 +257,9 @@ class SweepSpec:
             particle = {k: values[k] for k in self.particle}
             other = {k[6:]: values[k] for k in axes if k.startswith("other_")} or None
             index = tuple(axes[d].index(values[d]) for d in self.dims)
-            out.append(SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index, self.resolution))
+            out.append(
+                SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index, self.resolution, self.rtol)
+            )
         return out
 
 
@@ -272,10 +277,12 @@ class SweepPoint:
     keep: tuple
     index: tuple = ()
     resolution: float = RESOLUTION  # b: of the topology count, where kept
+    rtol: float = RTOL  # relative error bar of <A_ex>
 
     def payload(self) -> dict:
         """What the point's results depend on (the input of :attr:`hash`)."""
         payload = {"particle": self.particle, "other": self.other, "grid": self.grid, "keep": list(self.keep)}
+        payload["rtol"] = self.rtol
         if "topology" in self.keep:
             payload["resolution"] = self.resolution
         return payload
@@ -322,7 +329,7 @@ def _particle(params: dict):
 
 def point_hash(payload: dict) -> str:
     """Stable 16-hex-digit name of a parameter point (angles in radians)."""
-    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep", "resolution") if k in payload}
+    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep", "resolution", "rtol") if k in payload}
     payload["format"] = POINT_FORMAT
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -389,6 +396,9 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     resolution = doc.get("output", {}).get("resolution", RESOLUTION)
     if not (isinstance(resolution, (int, float)) and not isinstance(resolution, bool) and 1e-9 <= resolution <= 1):
         raise SweepError(f"{path}: [output] resolution must be a length in [1e-9, 1] b, got {resolution!r}")
+    rtol = doc.get("output", {}).get("rtol", RTOL)
+    if not (isinstance(rtol, (int, float)) and not isinstance(rtol, bool) and 1e-9 <= rtol < 1):
+        raise SweepError(f"{path}: [output] rtol must be a relative error in [1e-9, 1), got {rtol!r}")
     spec = SweepSpec(
         name=_string(path, "name", head.get("name", path.stem)),
         output=_output_folder(path, head.get("output", f"results/{path.stem}"), output),
@@ -398,6 +408,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
         keep=keep,
         source=text,
         resolution=float(resolution),
+        rtol=float(rtol),
     )
     _check_name(path, spec.name)
     total = math.prod(len(v) for part in (spec.particle, spec.other or {}) for v in part.values())
@@ -439,7 +450,7 @@ def common_half_width(spec: SweepSpec) -> float:
 
 def compute_point(point: SweepPoint) -> xr.Dataset:
     """The results of one parameter point (:func:`sesp.analyze`), labelled as a sweep point."""
-    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep, resolution=point.resolution)
+    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep, resolution=point.resolution, rtol=point.rtol)
     # a SeSP is rebuilt from its parameters; a polyline's vertices must stay
     rebuilt = [f"{p}_vertices" for p in ("particle", "other") if out.attrs[f"{p}_kind"] == "SeSP"]
     out = out.drop_vars(rebuilt)
@@ -791,7 +802,7 @@ def _wait_for_others(points, folder, poll=0.2):
 def with_common_box(spec: SweepSpec) -> SweepSpec:
     grid = dict(spec.grid)
     grid["half_width"] = common_half_width(spec)
-    return SweepSpec(spec.name, spec.output, spec.particle, spec.other, grid, spec.keep, spec.source, spec.resolution)
+    return replace(spec, grid=grid)
 
 
 MANIFEST_KEYS = {"name": str, "dims": list, "coords": dict, "points": list, "keep": list, "source": str}
