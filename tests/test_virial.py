@@ -1,5 +1,5 @@
 """B₃ from the overlap indicators against exact results: thin rings (hard disks of diameter 2R) and parallel
-squares, and against Monte Carlo on sesp's state-by-state overlap test for an open SeSP."""
+squares, and against Monte Carlo on sesp's state-by-state overlap test for an open SeSP and a mixture."""
 
 import math
 
@@ -52,6 +52,33 @@ def test_a_mixture_with_all_three_the_same_is_the_pure_value():
     pure = third_virial(asp, nodes=41, nphi=4, segments=32)
     mixed = third_virial(asp, SeSP(n=2, opening=2.0), SeSP(n=2, opening=2.0), nodes=41, nphi=4, segments=32)
     np.testing.assert_allclose(float(mixed.third_virial_coefficient), float(pure.third_virial_coefficient), 1e-12)
+
+
+MIXTURE = (SeSP(n=2, opening=math.pi / 2), SeSP(n=8, opening=math.pi), Polyline([[-1.0, 0.0], [1.0, 0.0]]))
+
+
+@pytest.mark.slow
+def test_a_mixture_of_three_different_particles_agrees_with_monte_carlo():
+    """B₃,ᵢⱼₖ of an ASP (90°), a half-open n = 8 SeSP and a needle of length 2 (polygons of 64 segments): the
+    lattice within 3 standard errors plus its bar of Mayer sampling on the state-by-state overlap test."""
+    lattice = third_virial(*MIXTURE, nodes=101, nphi=32, segments=64)
+    sampled = third_virial_monte_carlo(*MIXTURE, samples=400_000, seed=5, segments=64)
+    difference = abs(float(lattice.third_virial_coefficient) - float(sampled.third_virial_coefficient))
+    allowed = 3 * float(sampled.third_virial_coefficient_error) + float(lattice.third_virial_coefficient_error)
+    assert difference <= allowed
+    assert float(sampled.third_virial_coefficient_error) < 0.01 * float(sampled.third_virial_coefficient)
+
+
+@pytest.mark.slow
+def test_a_mixture_s_b3_does_not_depend_on_which_particle_is_first():
+    """B₃,ᵢⱼₖ is symmetric in i, j, k: the three orders that put each particle at the origin agree within the
+    sum of their error bars (the lattice decides different pairs in different frames)."""
+    found = [third_virial(*(MIXTURE[i:] + MIXTURE[:i]), nodes=61, nphi=32, segments=32) for i in range(3)]
+    values = [float(b.third_virial_coefficient) for b in found]
+    bars = [float(b.third_virial_coefficient_error) for b in found]
+    for i in range(3):
+        for j in range(i):
+            assert abs(values[i] - values[j]) <= bars[i] + bars[j]
 
 
 @pytest.mark.parametrize(

@@ -210,34 +210,40 @@ def _overlap_at(pair, x, y, phi) -> np.ndarray:
     return found > 0
 
 
-def third_virial_monte_carlo(particle, *, samples: int = 1_000_000, seed=None, segments: int = DEFAULT_SEGMENTS):
-    """B₃ of one species by Monte Carlo over (r₂, φ₂, r₃, φ₃), with its standard error (b⁴): the independent
-    check of :func:`third_virial`, on sesp's state-by-state overlap test (no lattice).
+def third_virial_monte_carlo(
+    particle, second=None, third=None, *, samples: int = 1_000_000, seed=None, segments: int = DEFAULT_SEGMENTS
+):
+    """B₃ of one species, or B₃,ᵢⱼₖ of three, by Monte Carlo over (r₂, φ₂, r₃, φ₃), with its standard error
+    (b⁴): the independent check of :func:`third_virial`, on sesp's state-by-state overlap test (no lattice).
 
-    r₂ and r₃ are uniform in the square of half-width r₁ + r₂ (nothing farther overlaps particle 1), φ₂ and φ₃
-    uniform; the estimate is (1/3)·(2L)⁴ times the mean of E₁₂ E₁₃ E₂₃, E₂₃ decided in particle 2's frame.
+    r₂ is uniform in the square of half-width r₁ + r₂ (nothing farther overlaps particle 1), r₃ in that of
+    half-width r₁ + r₃, φ₂ and φ₃ uniform; the estimate is (1/3)·(2(r₁ + r₂))²·(2(r₁ + r₃))² times the mean
+    of E₁₂ E₁₃ E₂₃, E₂₃ decided in particle 2's frame. ``second`` and ``third`` default to ``particle``.
     """
     samples = check_count("samples", samples, 1, 1 << 34)
-    pair = as_pair(particle, None, segments)
+    second = particle if second is None else second
+    third = particle if third is None else third
+    p12, p13, p23 = (as_pair(a, b, segments) for a, b in ((particle, second), (particle, third), (second, third)))
     rng = np.random.default_rng(seed)
-    side = 2 * pair.reach
+    half2, half3 = p12.reach, p13.reach
     t0 = time.perf_counter()
     total, total2, done = 0.0, 0.0, 0
     while done < samples:
         m = min(1 << 20, samples - done)
-        x2, y2, x3, y3 = rng.uniform(-side / 2, side / 2, size=(4, m))
+        x2, y2 = rng.uniform(-half2, half2, size=(2, m))
+        x3, y3 = rng.uniform(-half3, half3, size=(2, m))
         phi2, phi3 = rng.uniform(0.0, 2 * math.pi, size=(2, m))
-        hit = _overlap_at(pair, x2, y2, phi2) & _overlap_at(pair, x3, y3, phi3)
+        hit = _overlap_at(p12, x2, y2, phi2) & _overlap_at(p13, x3, y3, phi3)
         c, s = np.cos(phi2[hit]), np.sin(phi2[hit])
         dx, dy = x3[hit] - x2[hit], y3[hit] - y2[hit]
         both = np.zeros(m, dtype=bool)
-        both[hit] = _overlap_at(pair, c * dx + s * dy, -s * dx + c * dy, phi3[hit] - phi2[hit])
+        both[hit] = _overlap_at(p23, c * dx + s * dy, -s * dx + c * dy, phi3[hit] - phi2[hit])
         total += both.sum()
         total2 += both.sum()  # 0/1 values: the sum of squares is the sum
         done += m
     mean = total / samples
     error = math.sqrt(max(total2 / samples - mean**2, 0.0) / max(samples - 1, 1))
-    scale = side**4 / 3
+    scale = (2 * half2) ** 2 * (2 * half3) ** 2 / 3
     return xr.Dataset(
         {
             "third_virial_coefficient": ((), mean * scale, {**B4, "long_name": "third virial coefficient B3"}),
