@@ -17,7 +17,7 @@ from .certified import BASE, RESOLUTION, certified_components, check_resolution
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
-from .measures import RTOL, closed_pair_excluded_area, excluded_area
+from .measures import RTOL, closed_shape_excluded_area, excluded_area
 from .onsager import first_transition, onsager_variables, particle_area
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
@@ -98,8 +98,9 @@ def analyze(
           ``excluded_area_error(phi)`` at the grid's orientations at the
           settings it reached; ``normalized_excluded_area(phi)``,
           ``mean_normalized_excluded_area``, and ``closed_excluded_area``
-          (b², the reference of the normalisation; NaN for polylines, which have
-          no closed shape); and what :func:`sesp.onsager.onsager_variables`
+          (b², the reference of the normalisation, the closed shapes' smooth
+          curves, :func:`sesp.measures.closed_shape_excluded_area`; NaN for
+          polylines, which have no closed shape); and what :func:`sesp.onsager.onsager_variables`
           derives from the refined A_ex(φ), as ``sesp area``: the second virial coefficient (±
           ``second_virial_coefficient_error``), the orientational spectrum over
           ``k`` and the isotropic instabilities over ``order``, with error bars
@@ -167,7 +168,7 @@ def analyze(
     check_memory(grid, keep, memory_limit)
     ds = _lattice_pass(pair, grid, keep, engine, progress) if needs_lattice(keep) else _no_pass(pair, grid)
     best = _add_excluded_area(ds, pair, grid, rtol)
-    _add_normalized(ds, pair, grid)
+    _add_normalized(ds, pair, rtol)
     for name, value in onsager_variables(best).items():  # from the refined A_ex(φ), as `sesp area`
         ds[name] = value
     if "entangled_area" in ds:
@@ -234,12 +235,9 @@ def _at_orientations(best, particle, other, phi) -> xr.Dataset:
     return excluded_area(particle, other, rtol=None, nphi=len(phi), **settings)
 
 
-def _add_normalized(ds, pair, grid):
-    """The normalised and orientation-averaged excluded areas, in place."""
-    try:
-        reference = closed_pair_excluded_area(pair, grid)
-    except ValueError:  # polylines have no closed shape
-        reference = np.nan
+def _add_normalized(ds, pair, rtol):
+    """A_ex normalised by the closed shapes' (measured alike: :func:`closed_shape_excluded_area`), in place."""
+    reference = closed_shape_excluded_area(pair, rtol)
     area = ds.excluded_area
     ds["normalized_excluded_area"] = (area / reference).assign_attrs(
         units="1", long_name="A_ex(φ) / A_ex of the closed shape"

@@ -16,6 +16,7 @@ import xarray as xr
 
 from .checks import check_choice, check_count, check_positive
 from .dataset import base_attrs, cell_area, grid_attrs, grid_of, pair_attrs, pair_of
+from .exact import superellipse_area, superellipse_perimeter
 from .field import computed_slices, resolve_grid, scan
 from .grid import Grid
 from .kernels import overlap, scanline
@@ -34,6 +35,7 @@ __all__ = [
     "normalized_excluded_area",
     "closed_excluded_area",
     "closed_pair_excluded_area",
+    "closed_shape_excluded_area",
     "convex_excluded_area",
     "kinematic_integral",
     "excluded_perimeter",
@@ -487,6 +489,21 @@ def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
         curve, contact = closed.curve1, pair.contact
         return convex_excluded_area(curve) + 2 * curve.length * contact + math.pi * contact**2
     return lattice_excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
+
+
+def closed_shape_excluded_area(pair: Pair, rtol: float = RTOL) -> float:
+    """⟨A_ex⟩ (b²) of the pair's SeSPs closed (Ψ = 0), measured as :func:`excluded_area` measures SeSPs: of
+    the smooth curves. Identical convex shapes have the exact 2·Area + P²/2π of the smooth superellipse (with
+    2·P·D + π·D² for thickness D, Steiner's formula); others :func:`excluded_area` of the closed SeSPs at
+    ``rtol``. The reference by which :func:`sesp.analyze` normalises its A_ex; NaN for polylines."""
+    if not (isinstance(pair.particle, SeSP) and isinstance(pair.other, SeSP)):
+        return math.nan
+    closed = pair.closed()
+    if closed.identical and closed.particle.is_convex_closed:
+        area, perimeter = superellipse_area(closed.particle), superellipse_perimeter(closed.particle)
+        return 2 * area + perimeter**2 / (2 * math.pi) + 2 * perimeter * pair.contact + math.pi * pair.contact**2
+    found = excluded_area(closed.particle, None if closed.identical else closed.other, rtol=rtol)
+    return float(found.mean_excluded_area)
 
 
 def closed_excluded_area(ds: xr.Dataset) -> float:

@@ -864,5 +864,5 @@ def phase_diagram(ds, *, axes=None):
     thickness = ds.attrs.get("thickness", thickness)
     what = "second-virial Onsager theory" + ("; dashed: Parsons-Lee" if _parsons_lee_differs(ds) else "")
     particles = f"SeSPs of thickness {thickness:g} b" if thickness else "thin SeSPs"
-    fig.suptitle(f"first ordering transition of the isotropic state, {particles} ({what})", fontsize=10)
+    fig.suptitle(f"first ordering transition of the isotropic state, {particles}\n({what})", fontsize=10)
     return fig

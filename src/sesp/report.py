@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .dataset import format_of, grid_of, pair_of
-from .measures import RTOL, closed_excluded_area, excluded_area, lattice_excluded_area
+from .measures import RTOL, closed_shape_excluded_area, excluded_area, lattice_excluded_area
 
 __all__ = ["describe"]
 
@@ -48,9 +48,9 @@ def _area_line(ds, rtol: float) -> str:
         )
     if "allowed" in ds:
         text += f"\n           the field's lattice count {lattice_excluded_area(ds):.8g} b^2 (its own measure)"
-    try:
-        closed = closed_excluded_area(ds)
-    except ValueError:  # a Polyline has no closed shape
+    stored = "closed_excluded_area" in ds
+    closed = float(ds.closed_excluded_area) if stored else closed_shape_excluded_area(pair_of(ds), rtol)
+    if math.isnan(closed):  # a Polyline has no closed shape
         return text
     return f"{text}\n           A_ex / A_ex(closed) = {mean / closed:.6g}; closed {closed:.6g} b^2"
 
