@@ -88,3 +88,16 @@ def test_a_mixture_s_b3_does_not_depend_on_which_particle_is_first():
 def test_bad_arguments_name_the_parameter(kwargs, word):
     with pytest.raises(ValueError, match=word):
         third_virial(SeSP(), **kwargs)
+
+
+def test_a_lattice_that_would_not_fit_is_refused_before_any_work():
+    """nodes = 4097 and 1024 orientations hold about 2 TiB: refused at once, naming the settings; the
+    estimate covers what the default settings hold (E₁₂ and the spectra of E₁₃ over φ)."""
+    from sesp.virial import held_bytes
+
+    with pytest.raises(MemoryError, match="nodes=4097, nphi=1024"):
+        third_virial(SeSP(n=2, opening=1.0), nodes=4097, nphi=1024)
+    with pytest.raises(MemoryError, match="memory limit"):
+        third_virial(SeSP(n=2, opening=1.0), nodes=41, nphi=4, memory_limit=held_bytes(41, 4, 4) - 1)
+    per_slice = np.fft.rfft2(np.zeros((129, 129), dtype=bool), s=(258, 258)).nbytes
+    assert held_bytes(129, 32, 4) >= 4 * 32 * (per_slice + 129 * 129)

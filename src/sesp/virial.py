@@ -33,6 +33,7 @@ import numpy as np
 import xarray as xr
 
 from .checks import check_choice, check_count
+from .grid import available_memory
 from .kernels.overlap import crossing_field, state_crossings
 from .measures import excluded_area, lattice_shifts
 from .pair import as_pair
@@ -97,6 +98,7 @@ def third_virial(
     orientations: str = "free",
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
+    memory_limit: int | None = None,
 ) -> xr.Dataset:
     """B₃ of one species, or B₃,ᵢⱼₖ of three (a mixture), with an error bar, from the overlap indicators (b⁴).
 
@@ -121,6 +123,9 @@ def third_virial(
         Polyline segments of SeSPs.
     progress : bool
         A progress bar over the orientation pairs.
+    memory_limit : int, optional
+        Bytes the E₁₂ slices and E₁₃ spectra held over φ may take (:func:`held_bytes`); default half the
+        available memory. More is refused before any work.
 
     Returns
     -------
@@ -149,6 +154,7 @@ def third_virial(
     nphi = 1 if fixed else check_count("nphi", nphi, 2, 1024)
     if not fixed and nphi % 2:
         raise ValueError(f"nphi must be even (every other orientation is the coarser rule), got {nphi}")
+    check_held_bytes(nodes, nphi, shifts, memory_limit)
     second = particle if second is None else second
     third = particle if third is None else third
     p12, p13, p23 = (as_pair(a, b, segments) for a, b in ((particle, second), (particle, third), (second, third)))
@@ -202,6 +208,26 @@ def third_virial(
         attrs={"nodes": len(xs), "spacing": h, "nphi": nphi, "orientations": orientations,
                "lattice_error": lattice_error, "phi_error": phi_error, "seconds": time.perf_counter() - t0},
     )  # fmt: skip
+
+
+def held_bytes(nodes: int, nphi: int, shifts: int) -> int:
+    """Bytes :func:`third_virial` holds through its loop over orientation pairs: per shift and orientation,
+    E₁₂ (bool, nodes²) and E₁₃'s spectra on the lattice and its sublattice (complex, 2n × (n + 1) each)."""
+    half = (nodes + 1) // 2
+    spectra = 16 * (2 * nodes * (nodes + 1) + 2 * half * (half + 1))
+    return shifts * nphi * (nodes * nodes + spectra)
+
+
+def check_held_bytes(nodes: int, nphi: int, shifts: int, limit: int | None = None) -> None:
+    """Raise ``MemoryError`` naming the settings if :func:`held_bytes` exceeds ``limit`` (default half the
+    available memory)."""
+    limit = available_memory() // 2 if limit is None else int(limit)
+    held = held_bytes(nodes, nphi, shifts)
+    if held > limit:
+        raise MemoryError(
+            f"third_virial with nodes={nodes}, nphi={nphi}, shifts={shifts} holds {held / 2**30:.2f} GiB, over the"
+            f" memory limit of {limit / 2**30:.2f} GiB: use fewer nodes or orientations"
+        )
 
 
 def _overlap_at(pair, x, y, phi) -> np.ndarray:
