@@ -42,7 +42,7 @@ def _files(tmp_path):
         ),
         "mixture": save(analyze(asp, GRID, other=ZED, segments=16, rtol=1e-3), tmp_path / "mixture.nc"),
         "phases": save(
-            analyze(SeSP(n=2, opening=math.pi / 2, thickness=0.05), GRID, keep=["phases"], rtol=1e-3),
+            analyze(asp, GRID, keep=["phases"], rtol=1e-3),
             tmp_path / "phases.nc",
         ),
         "monte_carlo": save(monte_carlo(asp, samples=200, segments=16, seed=1), tmp_path / "mc.nc"),
