@@ -100,8 +100,9 @@ def analyze(
           ``mean_normalized_excluded_area``, and ``closed_excluded_area``
           (b², the reference of the normalisation, the closed shapes' smooth
           curves, :func:`sesp.measures.closed_shape_excluded_area`; NaN for
-          polylines, which have no closed shape); and what :func:`sesp.onsager.onsager_variables`
-          derives from the refined A_ex(φ), as ``sesp area``: the second virial coefficient (±
+          polylines, which have no closed shape); and what
+          :func:`sesp.onsager.onsager_variables` derives from the refined
+          A_ex(φ), as ``sesp area``: the second virial coefficient (±
           ``second_virial_coefficient_error``), the orientational spectrum over
           ``k`` and the isotropic instabilities over ``order``, with error bars
           that hold whatever the correlation of the per-φ errors. Kept alone it

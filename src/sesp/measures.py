@@ -476,6 +476,12 @@ def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> floa
     return curve.area + other.area + curve.length * other.length / (2 * math.pi)
 
 
+def _convex_mean(area: float, perimeter: float, contact: float) -> float:
+    """⟨A_ex⟩ (b²) of two copies of a convex body of ``area`` and ``perimeter`` that meet at ``contact`` (b):
+    2·Area + P²/2π, and 2·P·D + π·D² more at D = ``contact`` (Steiner's formula)."""
+    return 2 * area + perimeter**2 / (2 * math.pi) + 2 * perimeter * contact + math.pi * contact**2
+
+
 def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
     """Orientation-averaged excluded area of ``pair`` with both SeSPs closed (Ψ = 0), in b².
 
@@ -486,8 +492,8 @@ def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
     """
     closed = pair.closed()
     if pair.identical and pair.particle.is_convex_closed:
-        curve, contact = closed.curve1, pair.contact
-        return convex_excluded_area(curve) + 2 * curve.length * contact + math.pi * contact**2
+        curve = closed.curve1
+        return _convex_mean(curve.area, curve.length, pair.contact)
     return lattice_excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
 
 
@@ -500,8 +506,8 @@ def closed_shape_excluded_area(pair: Pair, rtol: float = RTOL) -> float:
         return math.nan
     closed = pair.closed()
     if closed.identical and closed.particle.is_convex_closed:
-        area, perimeter = superellipse_area(closed.particle), superellipse_perimeter(closed.particle)
-        return 2 * area + perimeter**2 / (2 * math.pi) + 2 * perimeter * pair.contact + math.pi * pair.contact**2
+        particle = closed.particle
+        return _convex_mean(superellipse_area(particle), superellipse_perimeter(particle), pair.contact)
     found = excluded_area(closed.particle, None if closed.identical else closed.other, rtol=rtol)
     return float(found.mean_excluded_area)
 

@@ -479,7 +479,7 @@ def _isotropic_at(pressure: float, mean: float, particle_area: float) -> float:
     return 0.5 * (lo + hi)
 
 
-def _coexistence(values, mean, branch, particle_area: float = 0.0):
+def _coexistence(mean, branch, particle_area: float = 0.0):
     """Densities (ρ_I, ρ_O) of isotropic and ordered states of equal βP and βμ, from the ordered branch
     [(ρ, state), ...] (ascending ρ, states of the theory of ``particle_area``); None if it never crosses."""
 
@@ -572,7 +572,7 @@ def phase_behaviour(
         if not onsager[0] < bifurcation < onsager[-1]:
             continuous[j] = -1  # not reached in this span
         elif below:  # the ordered branch reaches below the instability: first order
-            pair = _coexistence(values, mean, sorted(branch, key=lambda item: item[0]), particle_area)
+            pair = _coexistence(mean, sorted(branch, key=lambda item: item[0]), particle_area)
             if pair is not None:
                 low[j], high[j] = pair
         else:

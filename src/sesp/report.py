@@ -35,11 +35,11 @@ def area_text(mean: float, error: float) -> str:
 def _area_line(ds, rtol: float) -> str:
     """sesp's A_ex with its error bar: as the file stores it, else :func:`sesp.excluded_area` of the file's
     particles, computed now; beside it the lattice count of a stored field, that field's own measure."""
+    pair = pair_of(ds)
     if "mean_excluded_area_error" in ds:
         mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
         text = f"A_ex     : {area_text(mean, error)} (of the {ds.attrs.get('excluded_area_of', 'polygons')})"
     else:
-        pair = pair_of(ds)
         best = excluded_area(pair.particle, None if pair.identical else pair.other, rtol=rtol)
         mean, error = float(best.mean_excluded_area), float(best.mean_excluded_area_error)
         text = (
@@ -49,7 +49,7 @@ def _area_line(ds, rtol: float) -> str:
     if "allowed" in ds:
         text += f"\n           the field's lattice count {lattice_excluded_area(ds):.8g} b^2 (its own measure)"
     stored = "closed_excluded_area" in ds
-    closed = float(ds.closed_excluded_area) if stored else closed_shape_excluded_area(pair_of(ds), rtol)
+    closed = float(ds.closed_excluded_area) if stored else closed_shape_excluded_area(pair, rtol)
     if math.isnan(closed):  # a Polyline has no closed shape
         return text
     return f"{text}\n           A_ex / A_ex(closed) = {mean / closed:.6g}; closed {closed:.6g} b^2"

@@ -281,8 +281,13 @@ class SweepPoint:
 
     def payload(self) -> dict:
         """What the point's results depend on (the input of :attr:`hash`)."""
-        payload = {"particle": self.particle, "other": self.other, "grid": self.grid, "keep": list(self.keep)}
-        payload["rtol"] = self.rtol
+        payload = {
+            "particle": self.particle,
+            "other": self.other,
+            "grid": self.grid,
+            "keep": list(self.keep),
+            "rtol": self.rtol,
+        }
         if "topology" in self.keep:
             payload["resolution"] = self.resolution
         return payload

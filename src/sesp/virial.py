@@ -155,9 +155,7 @@ def third_virial(
     if not fixed and nphi % 2:
         raise ValueError(f"nphi must be even (every other orientation is the coarser rule), got {nphi}")
     check_held_bytes(nodes, nphi, shifts, memory_limit)
-    second = particle if second is None else second
-    third = particle if third is None else third
-    p12, p13, p23 = (as_pair(a, b, segments) for a, b in ((particle, second), (particle, third), (second, third)))
+    p12, p13, p23 = _three_pairs(particle, second, third, segments)
     xs = _lattice(max(p.reach for p in (p12, p13, p23)), nodes)
     h = float(xs[1] - xs[0])
     phi = 2 * np.pi * np.arange(nphi) / nphi
@@ -210,6 +208,14 @@ def third_virial(
     )  # fmt: skip
 
 
+def _three_pairs(particle, second, third, segments: int) -> tuple:
+    """The pairs (1, 2), (1, 3) and (2, 3) of three particles, ``second`` and ``third`` defaulting to
+    ``particle``."""
+    second = particle if second is None else second
+    third = particle if third is None else third
+    return tuple(as_pair(a, b, segments) for a, b in ((particle, second), (particle, third), (second, third)))
+
+
 def held_bytes(nodes: int, nphi: int, shifts: int) -> int:
     """Bytes :func:`third_virial` holds through its loop over orientation pairs: per shift and orientation,
     E₁₂ (bool, nodes²) and E₁₃'s spectra on the lattice and its sublattice (complex, 2n × (n + 1) each)."""
@@ -247,9 +253,7 @@ def third_virial_monte_carlo(
     of E₁₂ E₁₃ E₂₃, E₂₃ decided in particle 2's frame. ``second`` and ``third`` default to ``particle``.
     """
     samples = check_count("samples", samples, 1, 1 << 34)
-    second = particle if second is None else second
-    third = particle if third is None else third
-    p12, p13, p23 = (as_pair(a, b, segments) for a, b in ((particle, second), (particle, third), (second, third)))
+    p12, p13, p23 = _three_pairs(particle, second, third, segments)
     rng = np.random.default_rng(seed)
     half2, half3 = p12.reach, p13.reach
     t0 = time.perf_counter()
