@@ -13,6 +13,8 @@ from sesp.kernels import depth as depth_kernels
 from sesp.orientations import allowed_orientations
 from sesp.pair import as_pair
 
+import naive
+
 COARSE = dict(resolution=1e-3)  # b: a resolution that keeps these tests to seconds
 
 
@@ -108,6 +110,70 @@ def test_depth_certificate_falls_back_to_a_smaller_depth_where_the_first_fails()
     got = depth_kernels.certified_deep(curves, lens, apart, np.array([0.2, 0.2]), 1024, fallback=1e-3)
     assert got.tolist() == [1, 0]
     assert depth_kernels.certified_deep(curves, lens[:1], apart[:1], np.array([0.5]), 1024).tolist() == [0]
+
+
+def _plain_widest_odd_runs(v1, w, cross):
+    """The widest-margin odd run pair by the definition, without tables or pruning: the whole open curves, and
+    runs of 1, 2, 4, ... segments about each crossing, parities counted and margins measured to every segment."""
+
+    def to_run(points, v, lo, hi):
+        a, b = v[lo:hi], v[lo + 1 : hi + 1]
+        d = b - a
+        t = np.clip(((points[:, None, :] - a) * d).sum(-1) / (d * d).sum(-1), 0.0, 1.0)
+        return np.sqrt((((a + t[..., None] * d) - points[:, None, :]) ** 2).sum(-1).min())
+
+    def margin(i0, i1, j0, j1):
+        return min(to_run(v1[[i0, i1]], w, j0, j1), to_run(w[[j0, j1]], v1, i0, i1))
+
+    n1, n2 = len(v1) - 1, len(w) - 1
+    best = margin(0, n1, 0, n2) if len(cross) % 2 else -1.0
+    for i, j in cross:
+        half = 1
+        while True:
+            i0, i1, j0, j1 = max(0, i - half + 1), min(n1, i + half), max(0, j - half + 1), min(n2, j + half)
+            if (i0, i1, j0, j1) == (0, n1, 0, n2):
+                break
+            inside = ((cross[:, 0] >= i0) & (cross[:, 0] < i1) & (cross[:, 1] >= j0) & (cross[:, 1] < j1)).sum()
+            if inside % 2:
+                best = max(best, margin(i0, i1, j0, j1))
+            half *= 2
+    return best
+
+
+@pytest.mark.parametrize("offset", [3e-5, 0.3])
+def test_the_widest_odd_runs_are_those_a_plain_search_finds_with_many_crossings_or_few(offset):
+    """Two nearly coincident arcs cross hundreds of times (their parities then come from a table, and runs that
+    cannot beat the best margin are skipped); two arcs 0.3 b apart cross a few times. Both give the margin of
+    a plain search by the definition."""
+    pair = as_pair(_asp(5), segments=256)
+    v1, w = pair.vertices1, np.ascontiguousarray(naive.transform(pair.vertices2, offset, 0.0, 0.3))
+    boxes1 = depth_kernels.chunk_boxes(v1, np.empty((depth_kernels.chunk_count(v1), 4)))
+    boxes2 = depth_kernels.chunk_boxes(w, np.empty((depth_kernels.chunk_count(w), 4)))
+    cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
+    count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross)
+    assert (count > 100) == (offset < 1e-3)
+    *_, margin = depth_kernels._odd_runs(v1, boxes1, w, boxes2, cross, count, 0, 0)
+    assert margin == pytest.approx(_plain_widest_odd_runs(v1, w, cross[:count]), rel=1e-12)
+
+
+def test_crossing_parities_from_the_table_equal_those_counted():
+    rng = np.random.default_rng(7)
+    cross = rng.integers(0, 40, size=(300, 2))
+    table = depth_kernels._parity_table(cross, len(cross), 40, 40)
+    for i0, i1, j0, j1 in rng.integers(0, 41, size=(200, 4)):
+        i0, i1, j0, j1 = min(i0, i1), max(i0, i1), min(j0, j1), max(j0, j1)
+        counted = depth_kernels._inside_parity(cross, len(cross), np.zeros((1, 1), np.uint8), i0, i1, j0, j1)
+        assert depth_kernels._inside_parity(cross, len(cross), table, i0, i1, j0, j1) == counted
+
+
+def test_the_walk_around_phi_proves_the_same_wherever_it_begins():
+    """The ASP's lens at 90° (inscribed radius 0.293 b) is certified 0.2 b deep, and not 0.5 b, from any start."""
+    pair = as_pair(_asp(90), segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    starts = np.linspace(0.0, 2 * math.pi, 7, endpoint=False)
+    x, y = np.full(7, 0.8), np.zeros(7)
+    assert depth_kernels.certified_deep(curves, x, y, 0.2, 1024, start=starts).tolist() == [1] * 7
+    assert depth_kernels.certified_deep(curves, x, y, 0.5, 1024, start=starts).tolist() == [0] * 7
 
 
 def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_components(tmp_path, capsys):

@@ -78,8 +78,8 @@ __all__ = ["RESOLUTION", "Certified", "CertifiedComponent", "certified_component
 RESOLUTION = 1e-5  # b: the default ε, the erosion length of the count
 RIM_RATIO = 100  # rims of candidates are searched for hidden components to this many ε at most (1e-3 b at ε)
 BASE = 64  # cells along each side of the reach box before refinement
-MAX_STEPS = 64  # intervals of φ a depth certificate may use at first
-MOST_STEPS = 4096  # ... and at most, after retries at four times as many
+STEPS_PER_VERTEX = 4  # intervals of φ a depth certificate may use at first, per vertex of the longer polyline
+MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after retries at four times as many
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
 PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
@@ -95,7 +95,7 @@ class _Leaves:
     h: np.ndarray  # half-diagonal, b
     allowed: np.ndarray  # the centre is allowed
     clearance: np.ndarray  # b: a translation this short keeps the centre's orientation allowed
-    middle: np.ndarray  # radians: an allowed orientation at the centre (where it is allowed)
+    middle: np.ndarray  # radians: an allowed orientation at the centre where it is allowed, else one allowed nearby
     deep: np.ndarray  # certified: every point of the cell is at least ε deep
     steps: np.ndarray  # intervals of φ the depth certificate may use
     ran_out: np.ndarray  # the certificate used them all without an answer
@@ -261,6 +261,9 @@ class _Engine:
         self.spans2 = radial_spans(v2)
         self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
         self.curves = depth_kernels.prepared(v1, v2)
+        # a walk around φ needs an interval each time a vertex passes a crossing: a closed N-gon at a shallow
+        # overlap takes N to 3N (fewer at first would only be retried)
+        self.steps = STEPS_PER_VERTEX * max(len(v1), len(v2))
         self.evaluations = 0
         self.depth_cache = {}
         self.t0 = time.perf_counter()
@@ -280,7 +283,7 @@ class _Engine:
         y = -self.half + (j + 0.5) * side
         h = side / math.sqrt(2.0)
         n = len(x)
-        steps = np.full(n, MAX_STEPS) if steps is None else steps
+        steps = np.full(n, self.steps) if steps is None else steps
         hint = np.full(n, np.nan) if hint is None else hint
         clearance = np.zeros(n)
         middle = np.where(np.isnan(hint), 0.0, hint)
@@ -289,8 +292,10 @@ class _Engine:
             clearance[tried] = self._clearance(x[tried], y[tried], hint[tried], h[tried])
         allowed = clearance > 0
         deep, ran_out, radius, excluded = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n), np.zeros(n, bool)
-        met = np.nonzero(~allowed)[0]  # where the hint failed (or there was none): certify depth first
-        deep[met], radius[met], ran_out[met], excluded[met] = self._deep(x[met], y[met], h[met], steps[met])
+        met = np.nonzero(~allowed)[0]  # where the hint failed (or there was none): certify depth first, from the hint
+        deep[met], radius[met], ran_out[met], excluded[met] = self._deep(
+            x[met], y[met], h[met], steps[met], middle[met]
+        )
         rest = np.nonzero(~allowed & ~excluded)[0]  # neither allowed nor proved excluded: the exact windows decide
         if len(rest):
             ok, mid = self._windows(x[rest], y[rest])
@@ -318,30 +323,32 @@ class _Engine:
         )  # fmt: skip
         return width > 0, mid
 
-    def _deep(self, x, y, h, steps):
+    def _deep(self, x, y, h, steps, start):
         """Cells certified at least ε deep throughout, the radius about their centres so certified (wider than
         the cell where it is under ``rim``), where the certificate ran out of intervals, and the centres proved
-        excluded (at least ``PROOF_DEPTH`` deep where not deep: no allowed window to look for there)."""
+        excluded (at least ``PROOF_DEPTH`` deep where not deep: no allowed window to look for there). The walks
+        around φ begin at ``start`` (radians): an orientation allowed nearby, where a walk that fails fails first."""
         if not len(x):
             return np.zeros(0, bool), np.zeros(0), np.zeros(0, bool), np.zeros(0, bool)
-        got = self._cover(x, y, self.eps + h, steps, fallback=PROOF_DEPTH)
+        got = self._cover(x, y, self.eps + h, steps, PROOF_DEPTH, start)
         deep, ran_out = got == 1, got == -1
         radius = np.where(deep, h, 0.0)
         thin = np.nonzero(deep & (h < self.rim))[0]
         if len(thin):
             wider = np.maximum(3 * h[thin], self.rim)
-            ok = self._cover(x[thin], y[thin], self.eps + wider, steps[thin]) == 1
+            ok = self._cover(x[thin], y[thin], self.eps + wider, steps[thin], start=start[thin]) == 1
             radius[thin[ok]] = wider[ok]
             # a disk of the rim's radius makes a part a seed of its own: try it where the wider disk failed
             short = thin[~ok & (wider > self.rim)]
             if len(short):
-                ok = self._cover(x[short], y[short], np.full(len(short), self.eps + self.rim), steps[short]) == 1
+                r = np.full(len(short), self.eps + self.rim)
+                ok = self._cover(x[short], y[short], r, steps[short], start=start[short]) == 1
                 radius[short[ok]] = self.rim
         return deep, radius, ran_out, got > 0
 
-    def _cover(self, x, y, r, steps, fallback=0.0):
+    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0):
         r = np.maximum(r - self.pair.contact, 1e-300)
-        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback)
+        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start)
 
     def classify(self, L):
         """IN, OUT or UNDECIDED per leaf, with an upper bound on the depth anywhere in it (b)."""
@@ -401,7 +408,7 @@ class _Engine:
         above_floor = L.h * math.sqrt(2.0) > self.floor
         # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
-        retry = und & L.ran_out & (L.steps < MOST_STEPS)
+        retry = und & L.ran_out & (L.steps < max(MOST_STEPS, self.steps))
         return split & ~retry, retry, between, seed, U
 
     def _probe_corners(self, L, left):
@@ -511,7 +518,8 @@ class _Engine:
         idx = np.nonzero(retry)[0]
         if len(idx):
             L.steps[idx] *= 4
-            L.deep[idx], L.radius[idx], L.ran_out[idx], _ = self._deep(L.x[idx], L.y[idx], L.h[idx], L.steps[idx])
+            got = self._deep(L.x[idx], L.y[idx], L.h[idx], L.steps[idx], L.middle[idx])
+            L.deep[idx], L.radius[idx], L.ran_out[idx], _ = got
         return L
 
     def _split(self, L, split):

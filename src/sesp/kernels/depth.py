@@ -128,21 +128,75 @@ def _run(i, half, period, n):
 
 
 @njit(**JIT)
+def _parity_table(cross, count, n1, n2):
+    """(n1 + 1, n2 + 1) uint8: entry (a, b) is the parity of the crossings (i, j) with i < a and j < b, so the parity
+    of those inside runs [i0, i1) × [j0, j1) is four look-ups (:func:`_inside_parity`)."""
+    table = np.zeros((n1 + 1, n2 + 1), np.uint8)
+    for k in range(count):
+        table[cross[k, 0] + 1, cross[k, 1] + 1] ^= 1
+    for a in range(1, n1 + 1):
+        for b in range(1, n2 + 1):
+            table[a, b] ^= table[a - 1, b] ^ table[a, b - 1] ^ table[a - 1, b - 1]
+    return table
+
+
+@njit(**JIT)
+def _inside_parity(cross, count, table, i0, i1, j0, j1):
+    """Parity of the crossings with i0 <= i < i1 and j0 <= j < j1: from ``table`` where it is built (many
+    crossings), else counted."""
+    if table.shape[0] > 1:
+        return table[i1, j1] ^ table[i0, j1] ^ table[i1, j0] ^ table[i0, j0]
+    inside = 0
+    for k in range(count):
+        inside += i0 <= cross[k, 0] < i1 and j0 <= cross[k, 1] < j1
+    return inside % 2
+
+
+@njit(**JIT)
+def _nearer(x, y, v, k0, k1, k2, bound2):
+    """Whether (x, y) lies within squared distance ``bound2`` of segment k0, k1 or k2 of polyline v."""
+    for k in (k0, k1, k2):
+        if point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1]) <= bound2:
+            return True
+    return False
+
+
+@njit(**JIT)
+def _no_wider(v1, i0, i1, i, w, j0, j1, j, best):
+    """True where :func:`_ends_clearance` of runs i0..i1 and j0..j1 (holding the crossing segments i and j) cannot
+    exceed ``best``: an end lies within ``best`` of the other run's first, crossing or last segment (the same
+    arithmetic as the full measure; the square root of fl(best²) is best itself, so the test is exact)."""
+    if best < 0.0:
+        return False
+    b2 = best * best
+    return (
+        _nearer(v1[i0, 0], v1[i0, 1], w, j0, j, j1 - 1, b2)
+        or _nearer(v1[i1, 0], v1[i1, 1], w, j0, j, j1 - 1, b2)
+        or _nearer(w[j0, 0], w[j0, 1], v1, i0, i, i1 - 1, b2)
+        or _nearer(w[j1, 0], w[j1, 1], v1, i0, i, i1 - 1, b2)
+    )
+
+
+@njit(**JIT)
 def _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2):
     """(i0, i1, j0, j1, margin): the runs of segments (vertices i0..i1 of v1, j0..j1 of w) with an odd number of
     crossings whose ends are farthest from the other run; margin -1 if none: the whole curves, and runs of 1, 2,
     4, ... segments about each crossing. The widest margin certifies the longest interval of φ. ``p1``, ``p2``:
-    segments of a closed curve, stored twice over (0: open), whose runs may pass its first vertex."""
+    segments of a closed curve, stored twice over (0: open), whose runs may pass its first vertex. Where the
+    crossings are many, their parities come from a table; a run whose ends lie no farther from a few of the other run's
+    segments than the best margin so far is not measured (its margin cannot be wider)."""
     n1 = v1.shape[0] - 1
     n2 = w.shape[0] - 1
     g1 = p1 if p1 else n1
     g2 = p2 if p2 else n2
+    levels = int(math.log2(max(n1, n2))) + 1
+    if count * count * levels > (n1 + 1) * (n2 + 1):  # counting run by run would cost more than the table
+        table = _parity_table(cross, count, n1, n2)
+    else:
+        table = np.zeros((1, 1), np.uint8)
     best = -1.0
     bi0 = bi1 = bj0 = bj1 = 0
-    whole = 0
-    for k in range(count):
-        whole += cross[k, 0] < g1 and cross[k, 1] < g2
-    if whole % 2 == 1:
+    if _inside_parity(cross, count, table, 0, g1, 0, g2) == 1:
         best = _ends_clearance(v1, boxes1, 0, g1, w, boxes2, 0, g2)
         bi0, bi1, bj0, bj1 = 0, g1, 0, g2
     for c in range(count):
@@ -156,10 +210,9 @@ def _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2):
             j0, j1, full2 = _run(j, half, p2, n2)
             if full1 and full2 and not p1 and not p2:
                 break  # the whole curves, tried above
-            inside = 0
-            for k in range(count):
-                inside += i0 <= cross[k, 0] < i1 and j0 <= cross[k, 1] < j1
-            if inside % 2 == 1:
+            if _inside_parity(cross, count, table, i0, i1, j0, j1) == 1 and not _no_wider(
+                v1, i0, i1, i, w, j0, j1, j, best
+            ):
                 margin = _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1)
                 if margin > best:
                     best = margin
@@ -288,14 +341,15 @@ def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
 
 
 @njit(**JIT)
-def cover(plain, halved, tx, ty, r, fallback, max_steps):
+def cover(plain, halved, tx, ty, r, fallback, max_steps, start):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
     asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
     that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
     fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
-    tried at a φ where those of ``plain`` are not r apart."""
+    tried at a φ where those of ``plain`` are not r apart. The walk begins at φ = ``start`` (radians): where the
+    position is least deep there (an orientation allowed nearby), a walk that fails fails at once."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
@@ -304,7 +358,7 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps):
     boxes2, boxes2h = np.empty((chunk_count(plain[2]), 4)), np.empty((chunk_count(halved[2]), 4))
     cross = np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
     roots = np.empty(16)
-    phi = 0.0
+    phi = start
     first_behind = 0.0
     proved = 1
     for step in range(max_steps):
@@ -333,18 +387,18 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps):
         )  # fmt: skip
         if step == 0:
             first_behind = behind
-        if phi + ahead >= TWO_PI - first_behind:
+        if phi + ahead >= start + TWO_PI - first_behind:
             return proved
         phi += ahead + 1e-12  # the interval is closed: its end is certified
     return -1 if proved == 1 else 0  # out of steps at ``fallback``: nothing proved
 
 
 @njit(**JIT, parallel=True)
-def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, out):
+def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, out):
     """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
-    intervals. Each position is written by one thread."""
+    intervals, its walk begun at φ = ``starts[p]``. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p])
+        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p])
 
 
 def _stored(v):
@@ -376,13 +430,15 @@ def prepared(v1, v2):
     return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0):
+def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0):
     """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
-    with ``max_steps`` intervals of φ (broadcast); ``prepared_curves``: :func:`prepared`."""
+    with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast);
+    ``prepared_curves``: :func:`prepared`."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
     rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
+    starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
-    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, out)
+    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, out)
     return out
