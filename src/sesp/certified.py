@@ -264,6 +264,7 @@ class _Engine:
         # a walk around φ needs an interval each time a vertex passes a crossing: a closed N-gon at a shallow
         # overlap takes N to 3N (fewer at first would only be retried)
         self.steps = STEPS_PER_VERTEX * max(len(v1), len(v2))
+        self.most_steps = max(MOST_STEPS, self.steps)
         self.evaluations = 0
         self.depth_cache = {}
         self.t0 = time.perf_counter()
@@ -408,7 +409,7 @@ class _Engine:
         above_floor = L.h * math.sqrt(2.0) > self.floor
         # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
-        retry = und & L.ran_out & (L.steps < max(MOST_STEPS, self.steps))
+        retry = und & L.ran_out & (L.steps < self.most_steps)
         return split & ~retry, retry, between, seed, U
 
     def _probe_corners(self, L, left):
@@ -480,7 +481,7 @@ class _Engine:
         hi = 2.0 * self.half
         for _ in range(12):  # geometric bisection
             mid = math.sqrt(lo * hi)
-            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([MOST_STEPS]))[0]
+            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]))[0]
             lo, hi = (mid, hi) if ok == 1 else (lo, mid)
         return lo
 
@@ -493,7 +494,7 @@ class _Engine:
         for _ in range(10):
             for _ in range(8):
                 xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
-                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, MOST_STEPS)) == 1
+                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps)) == 1
                 if not deeper.any():
                     break
                 x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]

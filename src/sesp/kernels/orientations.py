@@ -372,7 +372,7 @@ def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
     ``boxes1``: :func:`chunk_boxes` of curve 1; ``moved``, ``boxes2``: scratch
     for curve 2's vertices at (t, φ) and their boxes. Only the segments of
     runs whose boxes are nearer than the nearest distance found so far are
-    measured: the others cannot be nearer.
+    measured: the others cannot be nearer; where two segments meet it stops.
     """
     c = math.cos(phi)
     s = math.sin(phi)
@@ -390,6 +390,8 @@ def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
                 for j in range(b * CHUNK, min((b + 1) * CHUNK, v2.shape[0] - 1)):
                     d2 = _segments_distance2(px, py, qx, qy, moved[j, 0], moved[j, 1], moved[j + 1, 0], moved[j + 1, 1])
                     best2 = min(best2, d2)
+                if best2 == 0.0:  # the curves meet: nothing is nearer
+                    return 0.0
     return math.sqrt(best2)
 
 
