@@ -267,7 +267,6 @@ class _Engine:
         self.most_steps = max(MOST_STEPS, self.steps)
         self.evaluations = 0
         self.depth_cache = {}
-        self.t0 = time.perf_counter()
         self.best = {}  # component root -> the leaf where its depth was proved largest
         self.corners = np.empty((0, 2))  # b: allowed corners of floor cells between parts
         self.probed = set()  # corners tried, as whole multiples of the smallest cell side
