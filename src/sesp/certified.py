@@ -29,17 +29,19 @@ candidate holding parts holds at least one component of E_ε and at most as
 many as its parts: ``low`` counts those candidates, ``high`` adds up their
 parts (and 1 for a candidate without any). Cells are split only where an
 undecided cell could change the bracket: between two parts of one candidate,
-in a candidate without a part, or on a candidate's rim where it may be deeper
-than ε + rim and lies farther than rim from every certified disk (a point
-deeper than ε + its distance d to a certified disk joins that disk's part:
-the disk of radius p − ε about it lies in E_ε, the depth being 1-Lipschitz,
-and reaches d). Refinement stops at cells of side ε/4; the floor cells left
-between two parts are then tried at their corners too (any allowed point
-bounds the depth near it, and the narrow allowed wedge of a pinch on x = 0
-runs along cell edges, between centres). A centre that is not
-allowed at its first orientation is proved excluded by the depth certificate
-(at a depth of 1e-9 b) where it can be, which costs a fraction of the exact
-windows; the windows decide the rest.
+in a candidate without a part, or on a candidate's rim where some point of
+the cell lies farther than rim from every certified disk and may be deeper
+than ε + rim (a point deeper than ε + its distance d to a certified disk
+joins that disk's part: the disk of radius p − ε about it lies in E_ε, the
+depth being 1-Lipschitz, and reaches d; a point within ε + rim of an allowed
+disk, an allowed point's clearance, is shallower than ε + rim). Refinement
+stops at cells of side ε/4; the floor cells left between two parts are then
+tried at their corners too (any allowed point bounds the depth near it, and
+the narrow allowed wedge of a pinch on x = 0 runs along cell edges, between
+centres). The centres of split cells stay known allowed points. A centre
+that is not allowed at its first orientation is proved excluded by the depth
+certificate (at a depth of 1e-9 b) where it can be, which costs a fraction of
+the exact windows; the windows decide the rest.
 
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
@@ -81,6 +83,8 @@ BASE = 64  # cells along each side of the reach box before refinement
 STEPS_PER_VERTEX = 4  # intervals of φ a depth certificate may use at first, per vertex of the longer polyline
 MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after retries at four times as many
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
+SUBCELLS = 4  # a rim leaf is shown searched on this many squares per side, each inside one disk (cost only)
+NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf (cost only)
 PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
 
@@ -268,7 +272,9 @@ class _Engine:
         self.evaluations = 0
         self.depth_cache = {}
         self.best = {}  # component root -> the leaf where its depth was proved largest
-        self.corners = np.empty((0, 2))  # b: allowed corners of floor cells between parts
+        # b: allowed points that are no leaf's centre (x, y, clearance): the centres of split leaves, and allowed
+        # corners of floor cells between parts (clearance 0)
+        self.points = np.empty((0, 3))
         self.probed = set()  # corners tried, as whole multiples of the smallest cell side
         # refinement levels to the floor: no leaf is finer, cells of the last level are no wider than the floor
         self.levels = max(1, math.ceil(math.log2(2 * self.half / base / self.floor)))
@@ -359,10 +365,10 @@ class _Engine:
         reach = np.hypot(L.x[a] - L.x[b], L.y[a] - L.y[b]) + L.h[a] - L.clearance[b]
         np.minimum.at(hi, a, np.maximum(0.0, reach))
         far = ~L.allowed & ~L.deep & (hi >= self.eps)
-        allowed = np.concatenate([np.column_stack([L.x[L.allowed], L.y[L.allowed]]), self.corners])
+        allowed = self._allowed_points(L)
         if far.any() and len(allowed):  # the nearest allowed point anywhere bounds the depth too
-            gap, _ = cKDTree(allowed).query(np.column_stack([L.x[far], L.y[far]]))
-            hi[far] = np.minimum(hi[far], gap + L.h[far])
+            gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]))
+            hi[far] = np.minimum(hi[far], np.maximum(0.0, gap + L.h[far] - allowed[k, 2]))
         status = np.full(len(L.x), UNDECIDED)
         status[L.deep] = IN
         status[(status == UNDECIDED) & (hi < self.eps)] = OUT
@@ -404,7 +410,7 @@ class _Engine:
         rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
         self.rim_used = float(rim[inn].min()) if inn.any() else self.rim
         on_rim = und & (hi >= self.eps + rim)
-        on_rim[on_rim] = self._gap_to_parts(L, inn, on_rim) > rim[on_rim]
+        on_rim[on_rim] = ~self._searched(L, inn, on_rim, rim[on_rim])
         above_floor = L.h * math.sqrt(2.0) > self.floor
         # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
         split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
@@ -429,22 +435,40 @@ class _Engine:
         side = 2.0 * self.half / (self.base * 2.0**finest)
         corners = -self.half + np.array(keys, dtype=float) * side
         ok, _ = self._windows(corners[:, 0].copy(), corners[:, 1].copy())
-        self.corners = np.concatenate([self.corners, corners[ok]])
+        self.points = np.concatenate([self.points, np.column_stack([corners[ok], np.zeros(int(ok.sum()))])])
         return bool(ok.any())
 
-    @staticmethod
-    def _gap_to_parts(L, inn, which):
-        """b: per ``which`` leaf, how far its farthest point may lie from the nearest certified disk of an in-leaf
-        (∞ without in-leaves). A point q of the leaf at least ε + that gap deep joins that disk's part: the disk
-        of radius p(q) − ε about q lies in E_ε (the depth is 1-Lipschitz) and reaches the certified disk. The
-        disks have few distinct radii (per level): one nearest-centre query per radius."""
-        points = np.column_stack([L.x[which], L.y[which]])
-        gap = np.full(len(points), np.inf)
-        for radius in np.unique(L.radius[inn]):
-            same = inn & (L.radius == radius)
-            distance, _ = cKDTree(np.column_stack([L.x[same], L.y[same]])).query(points)
-            gap = np.minimum(gap, distance - radius)
-        return np.maximum(0.0, gap + L.h[which])
+    def _allowed_points(self, L):
+        """(k, 3): x, y (b) and clearance (b) of every allowed point known: leaf centres and ``points``."""
+        a = L.allowed
+        return np.concatenate([np.column_stack([L.x[a], L.y[a], L.clearance[a]]), self.points])
+
+    def _searched(self, L, inn, which, rim):
+        """Per ``which`` leaf: whether no component deeper than ε + ``rim`` (b; per leaf) can hide in it apart
+        from the certified parts. That holds where each of its points q lies within ``rim`` of a certified disk
+        (an in-leaf's) or within ε + ``rim`` of an allowed disk (an allowed point's clearance):
+
+        * a point q with p(q) ≥ ε + d, d its distance to a certified disk, joins that disk's part: the disk
+          of radius p(q) − ε about q lies in E_ε (the depth is 1-Lipschitz) and reaches the certified disk;
+        * within ε + rim of an allowed disk, p(q) < ε + rim.
+
+        So the deepest point of a hidden component deeper than ε + rim is in neither. Shown on SUBCELLS ×
+        SUBCELLS squares per leaf, each inside one disk of the NEAREST of each kind (fewer shown: more split)."""
+        k = SUBCELLS
+        offsets = ((np.arange(k) + 0.5) / k * 2.0 - 1.0) / math.sqrt(2.0)  # square centres, in half-diagonals
+        ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets, indexing="ij"))
+        x, y, h = L.x[which], L.y[which], L.h[which]
+        sx, sy, sh = x[:, None] + h[:, None] * ox, y[:, None] + h[:, None] * oy, (h / k)[:, None]
+        allowed = self._allowed_points(L)
+        covered = np.zeros(sx.shape, bool)
+        for cx, cy, cr, extra in ((L.x[inn], L.y[inn], L.radius[inn], rim), (*allowed.T, self.eps + rim)):
+            near = min(NEAREST, len(cx))
+            if not near:
+                continue
+            _, idx = cKDTree(np.column_stack([cx, cy])).query(np.column_stack([x, y]), k=near)
+            for j in idx.reshape(len(x), near).T:
+                covered |= np.hypot(sx - cx[j][:, None], sy - cy[j][:, None]) + sh < (cr[j] + extra)[:, None]
+        return covered.all(axis=1)
 
     def _depths(self, L, status, U):
         """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell."""
@@ -524,6 +548,8 @@ class _Engine:
 
     def _split(self, L, split):
         parent, rest = L.take(split), L.take(~split)
+        a = parent.allowed
+        self.points = np.concatenate([self.points, np.column_stack([parent.x[a], parent.y[a], parent.clearance[a]])])
         m = len(parent.x)
         level = np.repeat(parent.level + 1, 4)
         i = np.repeat(parent.i * 2, 4) + np.tile(np.array([0, 1, 0, 1]), m)
