@@ -1,7 +1,8 @@
 """Where the certified count of excluded components changes over Ψ, per n and base grid, with the time per n.
 
 Every change is bracketed by bisection (``sesp.transitions``); the table
-says, per n, whether the brackets are identical on every base grid given.
+says, per n, whether the brackets, and the counts decided on each side of
+them, are identical on every base grid given.
 
     python benchmarks/transition_tables.py [--n 2 4 8 10] [--bases 64 63 48] [--resolution 1e-5]
                                            [--from 0] [--to 360] [--step 5] [--width 0.3]
@@ -40,8 +41,9 @@ def main():
                 progress=True,
             )  # fmt: skip
             seconds = time.perf_counter() - start
-            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.bracket,
-                           t.after.bracket) for t in found.changes]  # fmt: skip
+            # where each change lies and what is known on each side (a count, or None where undecided)
+            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
+                           t.after.count) for t in found.changes]  # fmt: skip
             rows = []
             for t in found.changes:
                 where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from sesp import Grid, SeSP, scan, topology
+from sesp.certified import Certified
 from sesp.progress import _NoProgress
 from sesp.regions import summarize
 from sesp.topology import _labelled, lattice_components, opening_family, transitions
@@ -98,3 +99,16 @@ def test_the_range_and_family_are_checked():
         transitions(SeSP(n=2), (0.5, 1.0), width=0.0)
     with pytest.raises(TypeError, match="family"):
         opening_family(3)
+
+
+def test_a_step_is_bisected_where_what_is_known_of_the_count_changes():
+    """Decided counts that differ, or a count decided on one side only, are a change; two undecided brackets
+    are one only where they do not overlap (where they do, the count is not known between them)."""
+
+    def at(low, high):
+        return Certified(low, high, 1e-5, 1e-3, 2.5e-6)
+
+    assert topology._changed(at(2, 2), at(1, 1)) and topology._changed(at(2, 2), at(2, 4))
+    assert topology._changed(at(1, 3), at(1, 1)) and topology._changed(at(0, 1), at(2, 3))
+    assert not topology._changed(at(2, 2), at(2, 2)) and not topology._changed(at(2, 4), at(1, 3))
+    assert not topology._changed(at(2, 5), at(0, 2))

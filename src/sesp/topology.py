@@ -6,9 +6,12 @@ The count
 :func:`sesp.certified_components`, the components of the excluded set eroded
 by a resolution ε (b), certified on both sides and exact in φ (the definition
 is in :mod:`sesp.certified`). :func:`transitions` follows that count over Ψ:
-it counts at openings ``step`` apart and bisects every step where the count
-(or its bracket) changes until the change is held in a bracket at most
-``width`` wide. A change that undoes itself within one step (a count going
+it counts at openings ``step`` apart and bisects every step where what is
+known of the count changes (a decided count changes, becomes undecided or is
+decided; two undecided brackets that do not overlap) until the change is
+held in a bracket at most ``width`` wide. Within a stretch of overlapping
+undecided brackets the count is not known at that resolution, and is not
+bisected. A change that undoes itself within one step (a count going
 2 → 3 → 2) is not seen; a finer ``step`` finds it.
 
 A stored field's components
@@ -67,6 +70,15 @@ def opening_family(family):
 
 def _state(found: Certified) -> tuple:
     return found.low, found.high
+
+
+def _changed(a: Certified, b: Certified) -> bool:
+    """Whether what is known of the count differs between two openings: a decided count changed, became
+    undecided or was decided; two undecided brackets differ only where they do not overlap (where they do,
+    where between them the count changes, if it does, is not known at this resolution)."""
+    if a.count is None and b.count is None:
+        return a.high < b.low or b.high < a.low
+    return _state(a) != _state(b)
 
 
 @dataclass(frozen=True)
@@ -251,7 +263,7 @@ def transitions(
         for o in grid:
             count(o)
             bar.update(1)
-    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _state(cache[a]) != _state(cache[b])]
+    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _changed(cache[a], cache[b])]
 
     def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
         return max(0, math.ceil(math.log2((hi - lo) / width)))
@@ -266,7 +278,7 @@ def transitions(
             mid = 0.5 * (a + b)
             count(mid)
             bar.update(1)
-            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if _state(cache[lo]) != _state(cache[hi])]
+            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if _changed(cache[lo], cache[hi])]
             if len(halves) != 1:  # a second branch to bisect, or none left (the change undid itself)
                 bar.total += (len(halves) - 1) * halvings(a, mid)
                 bar.refresh()
