@@ -81,6 +81,7 @@ def test_certified_engine_kernel_bodies(monkeypatch):
         (sesp.kernels.depth, "cover_at"): sesp.kernels.depth.cover_at,
         (sesp.kernels.cells, "leaf_edges"): sesp.kernels.cells.leaf_edges,
         (sesp.kernels.cells, "components"): sesp.kernels.cells.components,
+        (sesp.kernels.cells, "adjacency"): sesp.kernels.cells.adjacency,
         (sesp.kernels.cells, "disk_components"): sesp.kernels.cells.disk_components,
         (sesp.kernels.cells, "corridors"): sesp.kernels.cells.corridors,
         (sesp.kernels.cells, "graded"): sesp.kernels.cells.graded,

@@ -400,11 +400,12 @@ class _Engine:
         leaf not out."""
         und, inn = status == UNDECIDED, status == IN
         U = cell_kernels.components(status != OUT, ea, eb)
-        parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, ea, eb)
+        near = cell_kernels.adjacency(len(L.x), ea, eb)
+        parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, *near)
         has_part = np.zeros(len(L.x), bool)
         has_part[U[inn]] = True
         seed = np.where(inn, parts, -1)  # every certified part: two in one candidate are refined between
-        between = und & cell_kernels.corridors(seed, und | inn, ea, eb, 2)
+        between = und & cell_kernels.corridors(seed, und | inn, *near, 2)
         empty = und & ~has_part[np.maximum(U, 0)]
         depth = self._depths(L, status, U)
         rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim

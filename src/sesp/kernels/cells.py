@@ -88,18 +88,28 @@ def components(member, ea, eb):
 
 
 @njit(**JIT)
-def _adjacency(n, ea, eb):
-    order = np.argsort(ea)
-    return np.searchsorted(ea[order], np.arange(n + 1)), eb[order]
+def adjacency(n, ea, eb):
+    """(start, neighbour): the leaves adjacent to leaf a are ``neighbour[start[a]:start[a + 1]]`` (edges (a, b)
+    grouped by a, in their order: a counting sort)."""
+    start = np.zeros(n + 1, np.int64)
+    for e in range(ea.shape[0]):
+        start[ea[e] + 1] += 1
+    for a in range(n):
+        start[a + 1] += start[a]
+    at = start[:-1].copy()
+    neighbour = np.empty(ea.shape[0], np.int64)
+    for e in range(ea.shape[0]):
+        neighbour[at[ea[e]]] = eb[e]
+        at[ea[e]] += 1
+    return start, neighbour
 
 
 @njit(**JIT)
-def disk_components(member, x, y, radius, half_diagonal, ea, eb):
+def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
     """Components of the ``member`` leaves, joined where they are adjacent or where the disks of ``radius`` about
     their centres meet, among leaves two steps apart (the union of two meeting disks is connected); a leaf whose
-    disk is no wider than itself reaches no farther than its neighbours."""
+    disk is no wider than itself reaches no farther than its neighbours. ``start``, ``neighbour``: :func:`adjacency`."""
     n = member.shape[0]
-    start, neighbour = _adjacency(n, ea, eb)
     parent = np.arange(n)
     for a in range(n):
         if not member[a]:
@@ -143,11 +153,11 @@ def _steps_from(source, passable, start, neighbour):
 
 
 @njit(**JIT)
-def corridors(seed, passable, ea, eb, slack):
+def corridors(seed, passable, start, neighbour, slack):
     """Leaves on the shortest paths (in steps, within ``slack`` more) through ``passable`` leaves from each seed
-    (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined."""
+    (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined. ``start``,
+    ``neighbour``: :func:`adjacency`."""
     n = seed.shape[0]
-    start, neighbour = _adjacency(n, ea, eb)
     labels = np.unique(seed[seed >= 0])
     k = labels.shape[0]
     out = np.zeros(n, np.bool_)
