@@ -83,6 +83,7 @@ BASE = 64  # cells along each side of the reach box before refinement
 STEPS_PER_VERTEX = 4  # intervals of φ a depth certificate may use at first, per vertex of the longer polyline
 MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after retries at four times as many
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
+TURNS = (0.1, 0.03, 0.01, 0.003, 0.001)  # rad: steps of the search for a larger clearance (cost only)
 SUBCELLS = 4  # a rim leaf is shown searched on this many squares per side, each inside one disk (cost only)
 NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf (cost only)
 PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
@@ -295,7 +296,7 @@ class _Engine:
         middle = np.where(np.isnan(hint), 0.0, hint)
         tried = np.nonzero(~np.isnan(hint))[0]
         if len(tried):
-            clearance[tried] = self._clearance(x[tried], y[tried], hint[tried], h[tried])
+            clearance[tried], middle[tried] = self._widest(x[tried], y[tried], hint[tried], h[tried])
         allowed = clearance > 0
         deep, ran_out, radius, excluded = np.zeros(n, bool), np.zeros(n, bool), np.zeros(n), np.zeros(n, bool)
         met = np.nonzero(~allowed)[0]  # where the hint failed (or there was none): certify depth first, from the hint
@@ -318,6 +319,21 @@ class _Engine:
         p = self.pair
         clearance_at(p.vertices1, self.boxes1, p.vertices2, x, y, phi, 2 * h + p.contact, got)
         return got - p.contact
+
+    def _widest(self, x, y, phi, h):
+        """The clearance (b) at each centre, raised by a pattern search over φ from ``phi`` where it is positive
+        (steps of TURNS, each tried on both sides, kept where the clearance grows), and the orientation reached
+        (radians). A larger clearance bounds the depth near the centre more tightly: fewer cells are split."""
+        clearance, phi = self._clearance(x, y, phi, h), phi.copy()
+        for turn in TURNS:
+            for side in (turn, -turn):
+                k = np.nonzero((clearance > 0) & (clearance < 2 * h))[0]  # 2h: as far as a clearance is measured
+                if not len(k):
+                    return clearance, phi
+                got = self._clearance(x[k], y[k], phi[k] + side, h[k])
+                better = got > clearance[k]
+                clearance[k[better]], phi[k[better]] = got[better], phi[k[better]] + side
+        return clearance, phi
 
     def _windows(self, x, y):
         """Whether each position is allowed, exactly in φ, and the middle of its widest window (radians)."""
