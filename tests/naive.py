@@ -44,3 +44,39 @@ def point_in_convex(poly, pts):
     b = np.roll(poly, -1, axis=0)
     o = _orient(a[None, :, :], b[None, :, :], np.asarray(pts)[:, None, :])
     return np.all(o >= -1e-12, axis=1)
+
+
+def _steps_from(sources, passable, adjacent):
+    """Breadth-first steps from the ``sources`` leaves through ``passable`` ones (−1: not reached)."""
+    steps = np.full(len(passable), -1)
+    frontier = list(np.flatnonzero(sources))
+    steps[frontier] = 0
+    while frontier:
+        nxt = []
+        for a in frontier:
+            for b in adjacent[a]:
+                if passable[b] and steps[b] < 0:
+                    steps[b] = steps[a] + 1
+                    nxt.append(b)
+        frontier = nxt
+    return steps
+
+
+def corridors(seed, passable, edges, slack):
+    """Leaves on the shortest paths (within ``slack`` steps more) from each seed to its nearest other seed (the
+    lowest label among the nearest), by one search from every seed: the definition, at seeds × leaves."""
+    adjacent = [[] for _ in seed]
+    for a, b in edges:
+        adjacent[a].append(b)
+    labels = np.unique(seed[seed >= 0])
+    steps = np.array([_steps_from(seed == lab, passable, adjacent) for lab in labels])
+    out = np.zeros(len(seed), bool)
+    for s in range(len(labels)):
+        found = [(min(v for v in steps[s][seed == labels[t]] if v >= 0), t) for t in range(len(labels))
+                 if t != s and (steps[s][seed == labels[t]] >= 0).any()]  # fmt: skip
+        if not found:
+            continue
+        length, t = min(found)
+        both = (steps[s] >= 0) & (steps[t] >= 0)
+        out |= both & (steps[s] + steps[t] <= length + slack)
+    return out

@@ -244,3 +244,29 @@ def test_lens_and_body_part_at_a_pinch_whose_allowed_wedge_runs_between_cell_cen
     With centres alone both stayed 1-2."""
     found = certified_components(SeSP(n=n, opening=math.radians(degrees)), resolution=1e-3, segments=64)
     assert (found.low, found.high) == (2, 2)
+
+
+@pytest.mark.parametrize("trial", range(40))
+def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
+    """The corridor kernel (one search from all seeds, then searches only as far as each path is long) marks
+    what a search from every seed over every leaf marks, on a grid of leaves with random seeds and walls."""
+    from sesp.kernels import cells as cell_kernels
+
+    rng = np.random.default_rng(trial)
+    side = 14
+    index = np.arange(side * side).reshape(side, side)
+    pairs = [(index[i, j], index[i + di, j + dj]) for i in range(side) for j in range(side)
+             for di in (-1, 0, 1) for dj in (-1, 0, 1)
+             if (di or dj) and 0 <= i + di < side and 0 <= j + dj < side]  # fmt: skip
+    ea, eb = (np.array(v, dtype=np.int64) for v in zip(*pairs))
+    passable = rng.random(side * side) < 0.7
+    seed = np.full(side * side, -1, np.int64)
+    for label in rng.choice(side * side, size=5, replace=False):
+        around = index[max(0, label // side - 1) : label // side + 1, max(0, label % side - 1) : label % side + 1]
+        seed[around.ravel()] = label
+        passable[around.ravel()] = True
+    start, neighbour = cell_kernels.adjacency(side * side, ea, eb)
+    got = cell_kernels.corridors(seed, passable, start, neighbour, 2)
+    want = naive.corridors(seed, passable, pairs, 2)
+    assert got.any() or not want.any()
+    np.testing.assert_array_equal(got, want)

@@ -128,15 +128,19 @@ def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
 
 
 @njit(**JIT)
-def _steps_from(source, passable, start, neighbour):
-    """Steps from the ``source`` leaves to every leaf through ``passable`` leaves (−1: not reached)."""
-    n = source.shape[0]
-    steps = np.full(n, -1, np.int64)
+def _nearest_seeds(rank, passable, start, neighbour, k):
+    """Per seed (``rank`` 0..k−1 per leaf, −1 for others): the steps through ``passable`` leaves to the nearest
+    other seed, and that seed (the lowest-ranked of the nearest; −1 where none is reached). One breadth-first
+    search from all seeds at once labels every leaf with a nearest seed; the shortest path from seed s to
+    another crosses an edge (a, b) whose labels differ first, and there d(a) + 1 + d(b) is its length."""
+    n = rank.shape[0]
+    d = np.full(n, -1, np.int64)
+    label = np.full(n, -1, np.int64)
     queue = np.empty(n, np.int64)
     tail = 0
     for a in range(n):
-        if source[a]:
-            steps[a] = 0
+        if rank[a] >= 0:
+            d[a], label[a] = 0, rank[a]
             queue[tail] = a
             tail += 1
     head = 0
@@ -145,40 +149,86 @@ def _steps_from(source, passable, start, neighbour):
         head += 1
         for e in range(start[a], start[a + 1]):
             b = neighbour[e]
-            if passable[b] and steps[b] < 0:
-                steps[b] = steps[a] + 1
+            if passable[b] and d[b] < 0:
+                d[b], label[b] = d[a] + 1, label[a]
                 queue[tail] = b
                 tail += 1
-    return steps
+    length = np.full(k, np.iinfo(np.int64).max, np.int64)
+    nearest = np.full(k, -1, np.int64)
+    for a in range(n):
+        if d[a] < 0:
+            continue
+        for e in range(start[a], start[a + 1]):
+            b = neighbour[e]
+            if d[b] < 0 or label[b] == label[a]:
+                continue
+            s, t, steps = label[a], label[b], d[a] + 1 + d[b]
+            if steps < length[s] or (steps == length[s] and t < nearest[s]):
+                length[s], nearest[s] = steps, t
+    return length, nearest
+
+
+@njit(**JIT)
+def _steps_within(members, passable, start, neighbour, limit, steps, touched):
+    """Steps from the leaves ``members`` through ``passable`` leaves, up to ``limit``, written into ``steps``
+    (−1 where not reached, on entry and for leaves farther); returns how many leaves were reached, listed
+    first in ``touched`` (so that ``steps`` can be reset)."""
+    tail = 0
+    for a in members:
+        steps[a] = 0
+        touched[tail] = a
+        tail += 1
+    head = 0
+    while head < tail:
+        a = touched[head]
+        head += 1
+        if steps[a] >= limit:
+            continue
+        for e in range(start[a], start[a + 1]):
+            b = neighbour[e]
+            if passable[b] and steps[b] < 0:
+                steps[b] = steps[a] + 1
+                touched[tail] = b
+                tail += 1
+    return tail
 
 
 @njit(**JIT)
 def corridors(seed, passable, start, neighbour, slack):
     """Leaves on the shortest paths (in steps, within ``slack`` more) through ``passable`` leaves from each seed
     (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined. ``start``,
-    ``neighbour``: :func:`adjacency`."""
+    ``neighbour``: :func:`adjacency`. Memory in proportion to the leaves, not to leaves times seeds: each
+    path is searched only as far as it is long."""
     n = seed.shape[0]
+    out = np.zeros(n, np.bool_)
     labels = np.unique(seed[seed >= 0])
     k = labels.shape[0]
-    out = np.zeros(n, np.bool_)
     if k < 2:
         return out
-    steps = np.empty((k, n), np.int64)
+    rank = np.full(n, -1, np.int64)
+    for a in range(n):
+        if seed[a] >= 0:
+            rank[a] = np.searchsorted(labels, seed[a])
+    order = np.argsort(rank, kind="mergesort")
+    first = np.searchsorted(rank[order], np.arange(-1, k + 1))[1:]  # seed s's leaves: order[first[s]:first[s + 1]]
+    length, nearest = _nearest_seeds(rank, passable, start, neighbour, k)
+    from_s, from_t = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
+    touched_s, touched_t = np.empty(n, np.int64), np.empty(n, np.int64)
     for s in range(k):
-        steps[s] = _steps_from(seed == labels[s], passable, start, neighbour)
-    for s in range(k):
-        nearest, length = -1, np.iinfo(np.int64).max
-        for t in range(k):
-            if t == s:
-                continue
-            for a in range(n):
-                if seed[a] == labels[t] and 0 <= steps[s, a] < length:
-                    nearest, length = t, steps[s, a]
-        if nearest < 0:
+        t = nearest[s]
+        if t < 0:
             continue
-        for a in range(n):
-            if steps[s, a] >= 0 and steps[nearest, a] >= 0 and steps[s, a] + steps[nearest, a] <= length + slack:
+        limit = length[s] + slack
+        m_s = _steps_within(order[first[s] : first[s + 1]], passable, start, neighbour, limit, from_s, touched_s)
+        m_t = _steps_within(order[first[t] : first[t + 1]], passable, start, neighbour, limit, from_t, touched_t)
+        for i in range(m_s):
+            a = touched_s[i]
+            if from_t[a] >= 0 and from_s[a] + from_t[a] <= limit:
                 out[a] = True
+        for i in range(m_s):
+            from_s[touched_s[i]] = -1
+        for i in range(m_t):
+            from_t[touched_t[i]] = -1
     return out
 
 
