@@ -150,10 +150,27 @@ def test_the_widest_odd_runs_are_those_a_plain_search_finds_with_many_crossings_
     boxes1 = depth_kernels.chunk_boxes(v1, np.empty((depth_kernels.chunk_count(v1), 4)))
     boxes2 = depth_kernels.chunk_boxes(w, np.empty((depth_kernels.chunk_count(w), 4)))
     cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
-    count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross)
+    count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross, 0, 0)
     assert (count > 100) == (offset < 1e-3)
     *_, margin = depth_kernels._odd_runs(v1, boxes1, w, boxes2, cross, count, 0, 0)
     assert margin == pytest.approx(_plain_widest_odd_runs(v1, w, cross[:count]), rel=1e-12)
+
+
+@pytest.mark.parametrize("opening", [0, 30])
+def test_crossings_of_curves_stored_twice_over_are_every_segment_pair_that_meets(opening):
+    """Closed curves are stored twice over and their crossings found on the first copy only, then written for
+    both: the same pairs as every segment pair of the stored polylines that meets (an open curve: as it is)."""
+    pair = as_pair(SeSP(n=3, opening=math.radians(opening)), segments=64)
+    (v1, boxes1, v2, _, _, _, p1, p2), _ = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    assert (p1 > 0) == (opening == 0)
+    for x, y, phi in [(0.4, 0.3, 0.5), (1.1, -0.2, 2.0), (0.05, 0.02, 3.0)]:
+        w = np.ascontiguousarray(naive.transform(v2, x, y, phi))
+        boxes2 = depth_kernels.chunk_boxes(w, np.empty((depth_kernels.chunk_count(w), 4)))
+        cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
+        count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross, p1, p2)
+        expected = np.argwhere(naive.segment_pairs_meet(v1, w))
+        assert count == len(expected) > 0
+        assert sorted(map(tuple, cross[:count].tolist())) == sorted(map(tuple, expected.tolist()))
 
 
 def test_crossing_parities_from_the_table_equal_those_counted():

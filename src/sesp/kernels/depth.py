@@ -57,17 +57,23 @@ def _orient(px, py, qx, qy, ax, ay):
 
 
 @njit(**JIT)
-def crossings(v1, boxes1, w, boxes2, out):
+def crossings(v1, boxes1, w, boxes2, out, p1, p2):
     """Write the segment pairs (i, j) of ``v1`` and ``w`` whose interiors cross to ``out``; return how many, or -1
-    where a pair meets degenerately (an end point exactly on the other's line), where parity is not defined."""
+    where a pair meets degenerately (an end point exactly on the other's line), where parity is not defined.
+    ``p1``, ``p2``: segments of a closed curve stored twice over (0: open); its crossings are found on the first
+    copy and written for both."""
+    g1 = p1 if p1 else v1.shape[0] - 1
+    g2 = p2 if p2 else w.shape[0] - 1
     n = 0
-    for a in range(boxes1.shape[0]):
-        for b in range(boxes2.shape[0]):
+    for a in range((g1 - 1) // CHUNK + 1):
+        for b in range((g2 - 1) // CHUNK + 1):
             if boxes_distance2(boxes1[a], boxes2[b]) > 0.0:
                 continue
-            for i in range(a * CHUNK, min((a + 1) * CHUNK, v1.shape[0] - 1)):
+            for i in range(a * CHUNK, min((a + 1) * CHUNK, g1)):
                 px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
-                for j in range(b * CHUNK, min((b + 1) * CHUNK, w.shape[0] - 1)):
+                if _point_box2(0.5 * (px + qx), 0.5 * (py + qy), boxes2[b]) > 0.26 * ((qx - px) ** 2 + (qy - py) ** 2):
+                    continue  # the segment keeps out of the other run's box (0.25: half its length, squared)
+                for j in range(b * CHUNK, min((b + 1) * CHUNK, g2)):
                     ax, ay, bx, by = w[j, 0], w[j, 1], w[j + 1, 0], w[j + 1, 1]
                     d1 = _orient(px, py, qx, qy, ax, ay)
                     d2 = _orient(px, py, qx, qy, bx, by)
@@ -79,10 +85,12 @@ def crossings(v1, boxes1, w, boxes2, out):
                         continue
                     if d1 == 0.0 or d2 == 0.0 or d3 == 0.0 or d4 == 0.0:
                         return -1
-                    if n < out.shape[0]:
-                        out[n, 0] = i
-                        out[n, 1] = j
-                    n += 1
+                    for ci in range(2 if p1 else 1):
+                        for cj in range(2 if p2 else 1):
+                            if n < out.shape[0]:
+                                out[n, 0] = i + ci * p1
+                                out[n, 1] = j + cj * p2
+                            n += 1
     return n
 
 
@@ -333,7 +341,7 @@ def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
         w[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
         w[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
     chunk_boxes(w, boxes2)
-    count = crossings(v1, boxes1, w, boxes2, cross)
+    count = crossings(v1, boxes1, w, boxes2, cross, p1, p2)
     if count < 0 or count > MAX_CROSSINGS:
         return count, 0, 0, 0, 0, -1.0
     i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
