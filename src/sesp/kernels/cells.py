@@ -128,6 +128,27 @@ def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
 
 
 @njit(**JIT)
+def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label):
+    """A breadth-first search through ``passable`` leaves from the ``tail`` leaves listed first in ``touched``
+    (their ``steps`` 0, ``label`` set; ``steps`` −1 where not reached): each leaf reached gets its steps, up to
+    ``limit``, and the label of the leaf it was reached from. Returns how many leaves were reached, listed first
+    in ``touched`` (so that ``steps`` can be reset)."""
+    head = 0
+    while head < tail:
+        a = touched[head]
+        head += 1
+        if steps[a] >= limit:
+            continue
+        for e in range(start[a], start[a + 1]):
+            b = neighbour[e]
+            if passable[b] and steps[b] < 0:
+                steps[b], label[b] = steps[a] + 1, label[a]
+                touched[tail] = b
+                tail += 1
+    return tail
+
+
+@njit(**JIT)
 def _nearest_seeds(rank, passable, start, neighbour, k):
     """Per seed (``rank`` 0..k−1 per leaf, −1 for others): the steps through ``passable`` leaves to the nearest
     other seed, and that seed (the lowest-ranked of the nearest; −1 where none is reached). One breadth-first
@@ -143,16 +164,7 @@ def _nearest_seeds(rank, passable, start, neighbour, k):
             d[a], label[a] = 0, rank[a]
             queue[tail] = a
             tail += 1
-    head = 0
-    while head < tail:
-        a = queue[head]
-        head += 1
-        for e in range(start[a], start[a + 1]):
-            b = neighbour[e]
-            if passable[b] and d[b] < 0:
-                d[b], label[b] = d[a] + 1, label[a]
-                queue[tail] = b
-                tail += 1
+    _breadth_first(queue, tail, passable, start, neighbour, np.iinfo(np.int64).max, d, label)
     length = np.full(k, np.iinfo(np.int64).max, np.int64)
     nearest = np.full(k, -1, np.int64)
     for a in range(n):
@@ -169,28 +181,16 @@ def _nearest_seeds(rank, passable, start, neighbour, k):
 
 
 @njit(**JIT)
-def _steps_within(members, passable, start, neighbour, limit, steps, touched):
+def _steps_within(members, passable, start, neighbour, limit, steps, touched, label):
     """Steps from the leaves ``members`` through ``passable`` leaves, up to ``limit``, written into ``steps``
-    (−1 where not reached, on entry and for leaves farther); returns how many leaves were reached, listed
-    first in ``touched`` (so that ``steps`` can be reset)."""
+    (−1 where not reached, on entry and for leaves farther; ``label``: scratch); returns how many leaves were
+    reached, listed first in ``touched``."""
     tail = 0
     for a in members:
         steps[a] = 0
         touched[tail] = a
         tail += 1
-    head = 0
-    while head < tail:
-        a = touched[head]
-        head += 1
-        if steps[a] >= limit:
-            continue
-        for e in range(start[a], start[a + 1]):
-            b = neighbour[e]
-            if passable[b] and steps[b] < 0:
-                steps[b] = steps[a] + 1
-                touched[tail] = b
-                tail += 1
-    return tail
+    return _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label)
 
 
 @njit(**JIT)
@@ -213,14 +213,18 @@ def corridors(seed, passable, start, neighbour, slack):
     first = np.searchsorted(rank[order], np.arange(-1, k + 1))[1:]  # seed s's leaves: order[first[s]:first[s + 1]]
     length, nearest = _nearest_seeds(rank, passable, start, neighbour, k)
     from_s, from_t = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
-    touched_s, touched_t = np.empty(n, np.int64), np.empty(n, np.int64)
+    touched_s, touched_t, scratch = np.empty(n, np.int64), np.empty(n, np.int64), np.zeros(n, np.int64)
     for s in range(k):
         t = nearest[s]
         if t < 0:
             continue
         limit = length[s] + slack
-        m_s = _steps_within(order[first[s] : first[s + 1]], passable, start, neighbour, limit, from_s, touched_s)
-        m_t = _steps_within(order[first[t] : first[t + 1]], passable, start, neighbour, limit, from_t, touched_t)
+        m_s = _steps_within(
+            order[first[s] : first[s + 1]], passable, start, neighbour, limit, from_s, touched_s, scratch
+        )
+        m_t = _steps_within(
+            order[first[t] : first[t + 1]], passable, start, neighbour, limit, from_t, touched_t, scratch
+        )
         for i in range(m_s):
             a = touched_s[i]
             if from_t[a] >= 0 and from_s[a] + from_t[a] <= limit:
