@@ -252,6 +252,45 @@ def test_depth_certificate_ends_runs_mid_segment_where_a_corner_crosses_a_flat_s
     assert got.tolist() == [1]
 
 
+def test_two_tips_through_opposite_sides_prove_a_depth_no_one_pair_of_runs_shows():
+    """n = 10, Ψ = 170°, at (−1.233752, +0.009654) b: at φ ≈ −0.0154 rad both ends of curve 2 poke through the
+    flat top and bottom of curve 1. A short translation frees either end alone, in opposite directions, so one
+    pair of runs proves only 8.3e-6 b; the two ends' half-planes prove 3.6e-4 b. Exact windows find no allowed
+    position 3.6e-4 b away (720 directions) and one 3.7e-4 b away."""
+    part = SeSP(n=10, opening=math.radians(170))
+    pair = as_pair(part, segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    x, y = np.array([-1.233752]), np.array([0.009654])
+    assert depth_kernels.certified_deep(curves, x, y, 3.5e-4, 1 << 16).tolist() == [1]
+    assert depth_kernels.certified_deep(curves, x, y, 1e-5, 1 << 16, tips=False).tolist() == [0]
+    turn = math.radians(218)
+    assert allowed_orientations(pair, x[0] + 3.7e-4 * math.cos(turn), y[0] + 3.7e-4 * math.sin(turn)) > 0
+
+
+@pytest.mark.parametrize(("n", "degrees"), [(10, 170), (8, 175)])
+def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
+    """Where two end points prove a position 1e-4 b deep and one pair of runs does not (positions along the
+    body's left edges, where both ends of curve 2 poke through opposite sides of curve 1), the position and 16
+    points 0.999e-4 b from it are excluded exactly in φ."""
+    from sesp.orientations import widest_window
+
+    part, r = SeSP(n=n, opening=math.radians(degrees)), 1e-4
+    pair = as_pair(part, segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    rng = np.random.default_rng(0)
+    x, y = rng.uniform(-1.35, -0.95, 4000), rng.uniform(-0.3, 0.3, 4000)
+    both = depth_kernels.certified_deep(curves, x, y, r, 4096)
+    one = depth_kernels.certified_deep(curves, x, y, r, 4096, tips=False)
+    assert np.all(both[one == 1] == 1)
+    only = np.flatnonzero((both == 1) & (one != 1))
+    assert len(only) >= 3
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x[only], *(x[only] + 0.999 * r * math.cos(t) for t in turns)])
+    ys = np.concatenate([y[only], *(y[only] + 0.999 * r * math.sin(t) for t in turns)])
+    width, _ = widest_window(part, xs, ys, segments=256)
+    assert np.all(width == 0)
+
+
 @pytest.mark.parametrize(("n", "degrees"), [(2, 10), (8, 5)])
 def test_lens_and_body_part_at_a_pinch_whose_allowed_wedge_runs_between_cell_centres(n, degrees):
     """At small Ψ the lens and the body meet only at the centre: the allowed set there is a wedge along x = 0

@@ -368,9 +368,9 @@ class _Engine:
                 radius[short[ok]] = self.rim
         return deep, radius, ran_out, got > 0
 
-    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0):
+    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0, tips=True):
         r = np.maximum(r - self.pair.contact, 1e-300)
-        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start)
+        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start, tips)
 
     def classify(self, L):
         """IN, OUT or UNDECIDED per leaf, with an upper bound on the depth anywhere in it (b)."""
@@ -521,7 +521,7 @@ class _Engine:
         hi = 2.0 * self.half
         for _ in range(12):  # geometric bisection
             mid = math.sqrt(lo * hi)
-            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]))[0]
+            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]), tips=False)[0]
             lo, hi = (mid, hi) if ok == 1 else (lo, mid)
         return lo
 
@@ -534,7 +534,7 @@ class _Engine:
         for _ in range(10):
             for _ in range(8):
                 xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
-                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps)) == 1
+                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps), tips=False) == 1
                 if not deeper.any():
                     break
                 x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]

@@ -27,11 +27,23 @@ that without sampling φ:
   each segment cut at its middle (the same curves), whose ends can lie in
   the middle of the lens.
 
+* Two contacts at once. Where one end point of an open curve pokes through a
+  side of the other curve and a second end point through (or close to) the
+  opposite side, a short translation frees either alone but not both, and no
+  single pair of runs is r apart. Each such end point, near a run of the other
+  curve that is a graph over a line across the disk, keeps a pair of runs
+  crossing oddly for every translation in a half-plane (the side of the run
+  its parity gives); two half-planes that cover the disk of radius r certify
+  it (:func:`two_tips`). Turning φ by δ moves the end point at most ρδ from
+  the run (ρ: curve 2's radius), so the half-planes, moved by ρδ, hold over
+  an interval of φ.
+
 :func:`cover` walks around the circle of orientations: at the first φ not yet
 certified it looks for an arc pair with an odd crossing number and end points
 at least r from the other arc (the whole curves first, then runs of 1, 2, 4,
 ... segments about each crossing), finds the interval of φ over which that
-pair stays certified, and continues from its end. The position is certified
+pair stays certified (where there is none, two end points of the open curves),
+and continues from its end. The position is certified
 r deep when the intervals close around the circle. The bound is one-sided: a
 position whose certificate fails may still be that deep (for instance where
 the curves nearly coincide and cross many times within a short run).
@@ -303,24 +315,254 @@ def _point_interval(ox, oy, ax, ay, bx, by, v, boxes, near, far, lo, hi, r, phi0
 
 @njit(**JIT)
 def _certified_interval(
-    v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi0, roots, behind
+    v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi0, roots, behind, skip=-1
 ):
     """(ahead, behind): the interval of φ about ``phi0`` over which every end point of the two runs stays at
     least ``r`` from the other run. ``frame_boxes2``: chunk boxes of curve 2 in its own frame; ``near1``,
     ``far1``: the distances of curve 1's segments from t; ``rin2``, ``rout2``: of curve 2's from its centre.
-    ``behind``: 2π to find how far back the interval reaches, 0 where only ahead matters."""
+    ``behind``: 2π to find how far back the interval reaches, 0 where only ahead matters. ``skip``: an end not
+    to follow (0 to 3: i0, i1, j0, j1; −1 none)."""
     ahead = TWO_PI
     for a in (i0, i1):  # a fixed end of run 1, seen from curve 2's frame, turns by −φ about the origin
+        if skip == (0 if a == i0 else 1):
+            continue
         gx, gy = v1[a, 0] - tx, v1[a, 1] - ty
         ahead, behind = _point_interval(
             0.0, 0.0, gx, gy, gy, -gx, v2, frame_boxes2, rin2, rout2, j0, j1, r, phi0, roots, ahead, behind
         )
     for b in (j0, j1):  # a moving end of run 2 turns by φ about t
+        if skip == (2 if b == j0 else 3):
+            continue
         wx, wy = v2[b, 0], v2[b, 1]
         ahead, behind = _point_interval(
             tx, ty, wx, wy, -wy, wx, v1, boxes1, near1, far1, i0, i1, r, phi0, roots, ahead, behind
         )
     return ahead, behind
+
+
+@njit(**JIT)
+def _nearest_index(x, y, v, boxes, lo, hi):
+    """(k, d²): the segment k of polyline v (lo <= k < hi) nearest to (x, y), and its squared distance."""
+    best2, best = np.inf, -1
+    for c in range(lo // CHUNK, (hi - 1) // CHUNK + 1):
+        if _point_box2(x, y, boxes[c]) >= best2:
+            continue
+        for k in range(max(lo, c * CHUNK), min(hi, (c + 1) * CHUNK)):
+            d2 = point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1])
+            if d2 < best2:
+                best2, best = d2, k
+    return best, best2
+
+
+@njit(**JIT)
+def _steep(o, i, mx, my, least):
+    """Whether segment i of polyline o runs along m = (mx, my), at an angle of more than asin(least) to its normal."""
+    dx, dy = o[i + 1, 0] - o[i, 0], o[i + 1, 1] - o[i, 1]
+    return dx * mx + dy * my > least * math.hypot(dx, dy)
+
+
+@njit(**JIT)
+def _graph(ex, ey, o, k, reach, turn):
+    """The run of polyline o about its segment k that is a graph over the line of segment k across the slab of
+    half-width ``reach`` about (ex, ey), each segment at more than ``turn`` to the line's normal:
+    (c0, c1, nx, ny, low, high, at_e), vertices c0..c1, n the unit normal pointing from e towards the line, low
+    and high the least and greatest height along n of the run inside the slab and ``at_e`` its height beside e,
+    all from e. c0 = −1 where there is none."""
+    mx, my = o[k + 1, 0] - o[k, 0], o[k + 1, 1] - o[k, 1]
+    length = math.hypot(mx, my)
+    mx, my = mx / length, my / length
+    nx, ny = (-my, mx) if mx * (o[k, 1] - ey) - my * (o[k, 0] - ex) > 0.0 else (my, -mx)
+    least = math.sin(turn)
+    c0, c1 = k, k + 1
+    while (o[c0, 0] - ex) * mx + (o[c0, 1] - ey) * my > -reach:
+        if c0 == 0 or not _steep(o, c0 - 1, mx, my, least):
+            return -1, 0, 0.0, 0.0, 0.0, 0.0, 0.0
+        c0 -= 1
+    while (o[c1, 0] - ex) * mx + (o[c1, 1] - ey) * my < reach:
+        if c1 == o.shape[0] - 1 or not _steep(o, c1, mx, my, least):
+            return -1, 0, 0.0, 0.0, 0.0, 0.0, 0.0
+        c1 += 1
+    low, high, at_e = np.inf, -np.inf, 0.0
+    for i in range(c0, c1):  # the run clipped to the slab: heights at the clipped ends
+        ax, ay = o[i, 0] - ex, o[i, 1] - ey
+        dx, dy = o[i + 1, 0] - o[i, 0], o[i + 1, 1] - o[i, 1]
+        a, d = ax * mx + ay * my, dx * mx + dy * my  # d > 0: the run is steep
+        s0, s1 = max(0.0, (-reach - a) / d), min(1.0, (reach - a) / d)
+        for s in (s0, s1):
+            height = (ax + s * dx) * nx + (ay + s * dy) * ny
+            low, high = min(low, height), max(high, height)
+        if a <= 0.0 <= a + d:
+            at_e = (ax - a / d * dx) * nx + (ay - a / d * dy) * ny
+    return c0, c1, nx, ny, low, high, at_e
+
+
+@njit(**JIT)
+def _tip_runs(curves, w, boxes2, cross, count, side, tip, c0, c1, reach):
+    """(i0, i1, j0, j1, skip, odd) for a tip near the graph c0..c1 of the other curve (:func:`two_tips`):
+    the runs from the tip and about the graph whose other three ends, and the tip to the run outside the graph,
+    are farther than ``reach`` from the other run, the tip's end (as :func:`_certified_interval` skips it) and
+    whether the runs cross oddly; skip −1 where there are none."""
+    v1, boxes1, _, _, _, _, _, _ = curves
+    own, own_boxes, other, other_boxes = (v1, boxes1, w, boxes2) if side == 1 else (w, boxes2, v1, boxes1)
+    ex, ey = own[tip, 0], own[tip, 1]
+    n_own, n_other = own.shape[0] - 1, other.shape[0] - 1
+    half = 1
+    while True:  # runs: ``half`` segments from the tip, and the graph with ``half`` more segments on either side
+        t0, t1 = (0, min(half, n_own)) if tip == 0 else (max(0, n_own - half), n_own)
+        o0, o1 = max(0, c0 - half), min(n_other, c1 + half)
+        far = t1 if tip == 0 else t0
+        m2 = _nearest2(own[far, 0], own[far, 1], other, other_boxes, o0, o1, np.inf)
+        m2 = _nearest2(other[o0, 0], other[o0, 1], own, own_boxes, t0, t1, m2)
+        m2 = _nearest2(other[o1, 0], other[o1, 1], own, own_boxes, t0, t1, m2)
+        if o0 < c0:
+            m2 = min(m2, _nearest2(ex, ey, other, other_boxes, o0, c0, np.inf))
+        if c1 < o1:
+            m2 = min(m2, _nearest2(ex, ey, other, other_boxes, c1, o1, np.inf))
+        if m2 >= reach * reach:
+            break
+        if t1 - t0 == n_own and o1 - o0 == n_other:
+            return 0, 0, 0, 0, -1, False
+        half *= 2
+    if side == 1:
+        i0, i1, j0, j1, skip = t0, t1, o0, o1, 0 if tip == 0 else 1
+    else:
+        i0, i1, j0, j1, skip = o0, o1, t0, t1, 2 if tip == 0 else 3
+    return i0, i1, j0, j1, skip, _inside_parity(cross, count, np.zeros((1, 1), np.uint8), i0, i1, j0, j1) == 1
+
+
+@njit(**JIT)
+def _least_norm(ax, ay, b, cx, cy, d):
+    """The least |v| with a·v >= b and c·v >= d (|a| = |c| = 1); inf where no v has both."""
+    if b <= 0.0 and d <= 0.0:
+        return 0.0
+    cos = ax * cx + ay * cy
+    best = np.inf
+    if b > 0.0 and b * cos >= d:
+        best = b
+    if d > 0.0 and d * cos >= b:
+        best = min(best, d)
+    if best < np.inf:
+        return best
+    det = ax * cy - ay * cx
+    if det == 0.0:
+        return np.inf
+    return math.hypot((b * cy - ay * d) / det, (ax * d - b * cx) / det)
+
+
+@njit(**JIT)
+def _half_plane(plane, q, odd, slack):
+    """(a_x, a_y, c): tip q's half-plane of overlapping translations {v : a·v < c}, on its parity's side, its
+    heights moved by ``slack`` against it."""
+    if odd:
+        return plane[q, 0], plane[q, 1], plane[q, 2] - slack
+    return -plane[q, 0], -plane[q, 1], -plane[q, 3] - slack
+
+
+@njit(**JIT)
+def _covered(plane, a, odd_a, b, odd_b, r, slack):
+    """Whether the half-planes of tips a and b, on their parities' sides, hold every translation shorter than r."""
+    ax, ay, ca = _half_plane(plane, a, odd_a, slack)
+    bx, by, cb = _half_plane(plane, b, odd_b, slack)
+    return _least_norm(ax, ay, ca, bx, by, cb) >= r
+
+
+@njit(**JIT)
+def _largest_slack(plane, a, odd_a, b, odd_b, r, most):
+    """The largest slack (b, at most ``most``; 0 if none) by which both half-planes may move and still cover."""
+    if not _covered(plane, a, odd_a, b, odd_b, r, 0.0):
+        return 0.0
+    if _covered(plane, a, odd_a, b, odd_b, r, most):
+        return most
+    lo, hi = 0.0, most
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _covered(plane, a, odd_a, b, odd_b, r, mid) else (lo, mid)
+    return lo
+
+
+@njit(**JIT)
+def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots, first):
+    """(ahead, behind): an interval of φ about ``phi`` over which every translation of curve 2 shorter than ``r``
+    overlaps, shown by two end points of the open curves; (0, 0) where none is found. Where one end point pokes
+    through a side of the other curve and a second through (or close to) the opposite side, a short translation
+    frees either alone but not both: no single pair of runs shows that depth.
+
+    A tip e (of curve 1 or 2) near a run α of the other curve that is a graph over a line across the slab of
+    half-width r + 2·s about e (:func:`_graph`; s = ρδ, ρ curve 2's radius, δ the turn of φ allowed), with runs
+    from e and about α whose other three ends lie farther than that from the other run (:func:`_tip_runs`): the
+    parity of their crossings changes only where e crosses α. Within the disk |v| < r it is one parity P for
+    every v that leaves e below α (the side of e's foot on the line), the other above. So where P is odd the
+    runs cross for every v that puts e lower than α's least height in the slab, where it is even higher than
+    its greatest: a half-plane of translations. As φ turns by at most δ, e moves at most s relative to α and α
+    turns by at most δ: the half-plane, its heights moved by s, holds while the far ends stay r from the other
+    run (:func:`_certified_interval`). Two tips whose half-planes cover the disk certify it. The graphs and runs
+    are found for δ at most r/ρ (then 1/16 of that), and δ is the largest that keeps the disk covered.
+    ``w``, ``boxes2``, ``cross``, ``count``: curve 2 at (t, φ) and its crossings."""
+    v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = curves
+    if p1 or p2:
+        return 0.0, 0.0  # a closed curve has no end points
+    rho = 0.0
+    for k in range(rout2.shape[0]):
+        rho = max(rho, rout2[k])
+    most = r / rho  # the widest turn tried
+    sides, tips, nearest = np.empty(4, np.int64), np.empty(4, np.int64), np.empty(4, np.int64)
+    m = 0
+    for side, tip in ((1, 0), (1, v1.shape[0] - 1), (2, 0), (2, v2.shape[0] - 1)):
+        own, other, other_boxes = (v1, w, boxes2) if side == 1 else (w, v1, boxes1)
+        k, d2 = _nearest_index(own[tip, 0], own[tip, 1], other, other_boxes, 0, other.shape[0] - 1)
+        if d2 < (r + 2.0 * rho * most) ** 2:  # a tip farther than the widest slab from the other curve shows nothing
+            sides[m], tips[m], nearest[m] = side, tip, k
+            m += 1
+    if m < 2:
+        return 0.0, 0.0
+    plane = np.empty((m, 4))  # per tip: the normal (a_x, a_y) in translations of curve 2, least and greatest heights
+    graph = np.empty((m, 3), np.int64)  # per tip: c0, c1, and 1 where e lies above α (−1: no graph)
+    runs = np.empty((2, 5), np.int64)
+    odd = np.empty(2, np.bool_)
+    for _ in range(2):
+        reach = r + 2.0 * rho * most
+        for q in range(m):
+            own = v1 if sides[q] == 1 else w
+            other = w if sides[q] == 1 else v1
+            c0, c1, nx, ny, low, high, at_e = _graph(own[tips[q], 0], own[tips[q], 1], other, nearest[q], reach, most)
+            sign = 1.0 if sides[q] == 2 else -1.0  # e moves by v (curve 2) or by −v (curve 1) relative to α
+            plane[q, 0], plane[q, 1], plane[q, 2], plane[q, 3] = sign * nx, sign * ny, low, high
+            # no graph, or e too close to α to tell its side
+            graph[q, 0], graph[q, 1], graph[q, 2] = c0, c1, (-1 if c0 < 0 or abs(at_e) < 1e-13 else at_e < 0.0)
+        for a in range(m):
+            for b in range(a + 1, m):
+                if graph[a, 2] < 0 or graph[b, 2] < 0:
+                    continue
+                hope = False
+                for oa in (False, True):
+                    for ob in (False, True):
+                        hope = hope or _covered(plane, a, oa, b, ob, r, 0.0)
+                if not hope:
+                    continue  # no parities would do: the runs need not be found
+                for k in range(2):
+                    q = a if k == 0 else b
+                    got = _tip_runs(curves, w, boxes2, cross, count, sides[q], tips[q], graph[q, 0], graph[q, 1], reach)
+                    runs[k, 0], runs[k, 1], runs[k, 2], runs[k, 3], runs[k, 4] = got[0], got[1], got[2], got[3], got[4]
+                    odd[k] = got[5] != (graph[q, 2] == 1)  # the parity below α: flipped where e lies above it
+                if runs[0, 4] < 0 or runs[1, 4] < 0:
+                    continue
+                # a point of the disk stays below each α (its height less than the least, moved): the parity
+                # below is the same all along
+                below = min(plane[a, 2], plane[b, 2]) + 0.99 * r
+                slack = _largest_slack(plane, a, odd[0], b, odd[1], r, min(rho * most, below))
+                if slack <= 0.0:
+                    continue
+                ahead, behind = slack / rho, slack / rho if first else 0.0
+                for k in range(2):
+                    got = _certified_interval(
+                        v1, boxes1, near1, far1, runs[k, 0], runs[k, 1], v2, frame_boxes2, rin2, rout2, runs[k, 2],
+                        runs[k, 3], tx, ty, r, phi, roots, TWO_PI if first else 0.0, runs[k, 4],
+                    )  # fmt: skip
+                    ahead, behind = min(ahead, got[0]), min(behind, got[1])
+                if ahead > 0.0:
+                    return ahead, behind
+        most /= 16.0
+    return 0.0, 0.0
 
 
 @njit(**JIT)
@@ -349,7 +591,7 @@ def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
 
 
 @njit(**JIT)
-def cover(plain, halved, tx, ty, r, fallback, max_steps, start):
+def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
     asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
@@ -357,14 +599,15 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start):
     fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
     tried at a φ where those of ``plain`` are not r apart. The walk begins at φ = ``start`` (radians): where the
-    position is least deep there (an orientation allowed nearby), a walk that fails fails at once."""
+    position is least deep there (an orientation allowed nearby), a walk that fails fails at once. ``tips``:
+    where one pair of runs falls short, try two end points of the open curves (:func:`two_tips`)."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
     segment_radii(halved[0], tx, ty, near1h, far1h)
     w, wh = np.empty_like(plain[2]), np.empty_like(halved[2])
     boxes2, boxes2h = np.empty((chunk_count(plain[2]), 4)), np.empty((chunk_count(halved[2]), 4))
-    cross = np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
+    cross, cross_h = np.empty((MAX_CROSSINGS, 2), dtype=np.int64), np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
     roots = np.empty(16)
     phi = start
     first_behind = 0.0
@@ -378,12 +621,22 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start):
             got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         if got[0] < 0 or got[0] > MAX_CROSSINGS:
             return 0
+        count = got[0]
         curves, near, far = plain, near1, far1
         if got[5] < r:  # runs that may end at the middle of a segment
-            finer = _runs_at(halved, tx, ty, phi, wh, boxes2h, cross)
+            finer = _runs_at(halved, tx, ty, phi, wh, boxes2h, cross_h)
             if 0 <= finer[0] <= MAX_CROSSINGS and finer[5] > got[5]:
                 got, curves, near, far = finer, halved, near1h, far1h
         _, i0, i1, j0, j1, margin = got
+        if tips and margin < r and proved == 1:  # two end points, each through or near a side of the other curve
+            ahead, behind = two_tips(plain, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots, step == 0)
+            if ahead > 0.0:
+                if step == 0:
+                    first_behind = behind
+                if phi + ahead >= start + TWO_PI - first_behind:
+                    return proved
+                phi += ahead + 1e-12
+                continue
         if margin < r:
             if not 0.0 < fallback <= margin:
                 return 0
@@ -402,11 +655,11 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start):
 
 
 @njit(**JIT, parallel=True)
-def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, out):
+def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, out):
     """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
     intervals, its walk begun at φ = ``starts[p]``. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p])
+        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], tips)
 
 
 def _stored(v):
@@ -438,15 +691,15 @@ def prepared(v1, v2):
     return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0):
+def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, tips=True):
     """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
-    with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast);
-    ``prepared_curves``: :func:`prepared`."""
+    with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast), trying two end
+    points where one pair of runs falls short if ``tips``; ``prepared_curves``: :func:`prepared`."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
     rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
-    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, out)
+    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), out)
     return out
