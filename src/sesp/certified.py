@@ -16,7 +16,8 @@ the particles' reach box, refined by halving). Each cell is
   that bounds the depth of every point of the cell from above;
 * **in** when the depth certificate (:mod:`sesp.kernels.depth`: curves that
   cross with odd parity and stay crossed under every shorter translation, at
-  every φ, in closed form) proves its centre at least ε + h deep, h its
+  every φ, in closed form; or two end points held through opposite sides of
+  the other curve) proves its centre at least ε + h deep, h its
   half-diagonal: then the whole cell lies in E_ε;
 * **out** when an upper bound on the depth anywhere in the cell (from allowed
   centres nearby) is below ε: no point of the cell lies in E_ε;
@@ -349,10 +350,12 @@ class _Engine:
         """Cells certified at least ε deep throughout, the radius about their centres so certified (wider than
         the cell where it is under ``rim``), where the certificate ran out of intervals, and the centres proved
         excluded (at least ``PROOF_DEPTH`` deep where not deep: no allowed window to look for there). The walks
-        around φ begin at ``start`` (radians): an orientation allowed nearby, where a walk that fails fails first."""
+        around φ begin at ``start`` (radians): an orientation allowed nearby, where a walk that fails fails first.
+        Two end points (:func:`~sesp.kernels.depth.two_tips`) are tried at ε + h only: near the depth they can
+        show they step in ever shorter turns, and the wider disks only save cells (cost)."""
         if not len(x):
             return np.zeros(0, bool), np.zeros(0), np.zeros(0, bool), np.zeros(0, bool)
-        got = self._cover(x, y, self.eps + h, steps, PROOF_DEPTH, start)
+        got = self._cover(x, y, self.eps + h, steps, PROOF_DEPTH, start, tips=True)
         deep, ran_out = got == 1, got == -1
         radius = np.where(deep, h, 0.0)
         thin = np.nonzero(deep & (h < self.rim))[0]
@@ -368,7 +371,7 @@ class _Engine:
                 radius[short[ok]] = self.rim
         return deep, radius, ran_out, got > 0
 
-    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0, tips=True):
+    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0, tips=False):
         r = np.maximum(r - self.pair.contact, 1e-300)
         return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start, tips)
 
@@ -521,7 +524,7 @@ class _Engine:
         hi = 2.0 * self.half
         for _ in range(12):  # geometric bisection
             mid = math.sqrt(lo * hi)
-            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]), tips=False)[0]
+            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]))[0]
             lo, hi = (mid, hi) if ok == 1 else (lo, mid)
         return lo
 
@@ -534,7 +537,7 @@ class _Engine:
         for _ in range(10):
             for _ in range(8):
                 xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
-                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps), tips=False) == 1
+                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps)) == 1
                 if not deeper.any():
                     break
                 x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]

@@ -61,6 +61,9 @@ from .common import JIT, point_segment_distance2, sort_first
 from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, chunk_count, sinusoid_roots
 
 MAX_CROSSINGS = 1024  # crossings of the two stored polylines at one φ at most; more and the certificate gives up
+# a turn of φ over which two end points move curve 2 by less than this many r is given up as a step of their
+# walk: it nears an orientation where their half-planes stop covering the disk, in ever shorter steps (cost only)
+LEAST_TIP_STEP = 1e-6
 
 
 @njit(**JIT)
@@ -550,7 +553,7 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
                 # below is the same all along
                 below = min(plane[a, 2], plane[b, 2]) + 0.99 * r
                 slack = _largest_slack(plane, a, odd[0], b, odd[1], r, min(rho * most, below))
-                if slack <= 0.0:
+                if slack <= LEAST_TIP_STEP * r:
                     continue
                 ahead, behind = slack / rho, slack / rho if first else 0.0
                 for k in range(2):
@@ -559,7 +562,7 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
                         runs[k, 3], tx, ty, r, phi, roots, TWO_PI if first else 0.0, runs[k, 4],
                     )  # fmt: skip
                     ahead, behind = min(ahead, got[0]), min(behind, got[1])
-                if ahead > 0.0:
+                if ahead * rho > LEAST_TIP_STEP * r:
                     return ahead, behind
         most /= 16.0
     return 0.0, 0.0
