@@ -14,7 +14,8 @@ from _common import machine, table
 from sesp import SeSP
 from sesp.certified import certified_components
 
-CASES = [(2, 90), (2, 179), (2, 181), (4, 170), (4, 176), (4, 178), (8, 0), (8, 120), (8, 175)]
+CASES = [(2, 90), (2, 179), (2, 181), (4, 170), (4, 176), (4, 178), (8, 0), (8, 120), (8, 170), (8, 175)]
+CASES += [(10, 170), (10, 175)]
 
 
 def main(cases):

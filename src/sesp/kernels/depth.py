@@ -117,15 +117,25 @@ def _point_box2(x, y, box):
 
 
 @njit(**JIT)
-def _nearest2(x, y, v, boxes, lo, hi, best2):
-    """min(best2, squared distance from (x, y) to segments lo..hi-1 of polyline v); runs of ``CHUNK`` segments
-    whose box (``boxes``) is farther than the best so far are skipped."""
+def _nearest_index(x, y, v, boxes, lo, hi, best2):
+    """(k, d²): the segment k of polyline v (lo <= k < hi) nearest to (x, y) and its squared distance, where it
+    is nearer than ``best2`` (else −1, best2); runs of ``CHUNK`` segments whose box (``boxes``) is farther than
+    the best so far are skipped."""
+    best = -1
     for c in range(lo // CHUNK, (hi - 1) // CHUNK + 1):
         if _point_box2(x, y, boxes[c]) >= best2:
             continue
         for k in range(max(lo, c * CHUNK), min(hi, (c + 1) * CHUNK)):
-            best2 = min(best2, point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1]))
-    return best2
+            d2 = point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1])
+            if d2 < best2:
+                best2, best = d2, k
+    return best, best2
+
+
+@njit(**JIT)
+def _nearest2(x, y, v, boxes, lo, hi, best2):
+    """min(best2, squared distance from (x, y) to segments lo..hi-1 of polyline v)."""
+    return _nearest_index(x, y, v, boxes, lo, hi, best2)[1]
 
 
 @njit(**JIT)
@@ -344,20 +354,6 @@ def _certified_interval(
 
 
 @njit(**JIT)
-def _nearest_index(x, y, v, boxes, lo, hi):
-    """(k, d²): the segment k of polyline v (lo <= k < hi) nearest to (x, y), and its squared distance."""
-    best2, best = np.inf, -1
-    for c in range(lo // CHUNK, (hi - 1) // CHUNK + 1):
-        if _point_box2(x, y, boxes[c]) >= best2:
-            continue
-        for k in range(max(lo, c * CHUNK), min(hi, (c + 1) * CHUNK)):
-            d2 = point_segment_distance2(x, y, v[k, 0], v[k, 1], v[k + 1, 0], v[k + 1, 1])
-            if d2 < best2:
-                best2, best = d2, k
-    return best, best2
-
-
-@njit(**JIT)
 def _steep(o, i, mx, my, least):
     """Whether segment i of polyline o runs along m = (mx, my), at an angle of more than asin(least) to its normal."""
     dx, dy = o[i + 1, 0] - o[i, 0], o[i + 1, 1] - o[i, 1]
@@ -512,7 +508,7 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
     m = 0
     for side, tip in ((1, 0), (1, v1.shape[0] - 1), (2, 0), (2, v2.shape[0] - 1)):
         own, other, other_boxes = (v1, w, boxes2) if side == 1 else (w, v1, boxes1)
-        k, d2 = _nearest_index(own[tip, 0], own[tip, 1], other, other_boxes, 0, other.shape[0] - 1)
+        k, d2 = _nearest_index(own[tip, 0], own[tip, 1], other, other_boxes, 0, other.shape[0] - 1, np.inf)
         if d2 < (r + 2.0 * rho * most) ** 2:  # a tip farther than the widest slab from the other curve shows nothing
             sides[m], tips[m], nearest[m] = side, tip, k
             m += 1
