@@ -1,3 +1,4 @@
+import contextlib
 import math
 import os
 import signal
@@ -259,6 +260,7 @@ def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_p
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        env={**os.environ, "PYTHONFAULTHANDLER": "1"},  # SIGABRT then prints every thread's stack
     )
     children, deadline = set(), time.monotonic() + 120
     while not point_files(tmp_path / "out") and time.monotonic() < deadline and proc.poll() is None:
@@ -267,7 +269,14 @@ def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_p
     proc.send_signal(signal.SIGINT)  # at once: under load a scan of /proc here let the sweep run to its end
     start = time.monotonic()
     assert children, "the sweep should have been running with its workers"
-    _, err = proc.communicate(timeout=30)
+    try:
+        _, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:  # say where the runner is stuck
+        os.kill(proc.pid, signal.SIGABRT)
+        _, err = proc.communicate()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)  # its workers
+        pytest.fail(f"the runner was still there 30 s after SIGINT; its threads:\n{err}")
     assert time.monotonic() - start < 10
     assert proc.returncode == 130 and "Run the same command again to resume" in err and "Traceback" not in err
     time.sleep(0.5)
