@@ -261,6 +261,7 @@ def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_p
         text=True,
         start_new_session=True,
         env={**os.environ, "PYTHONFAULTHANDLER": "1"},  # SIGABRT then prints every thread's stack
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),  # as from a shell, even if ignored here
     )
     children, deadline = set(), time.monotonic() + 120
     while not point_files(tmp_path / "out") and time.monotonic() < deadline and proc.poll() is None:
