@@ -152,7 +152,9 @@ def test_the_widest_odd_runs_are_those_a_plain_search_finds_with_many_crossings_
     cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
     count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross, 0, 0)
     assert (count > 100) == (offset < 1e-3)
-    *_, margin = depth_kernels._odd_runs(v1, boxes1, w, boxes2, cross, count, 0, 0)
+    table = depth_kernels._parities(cross, count, len(v1) - 1, len(w) - 1)
+    assert (table.shape[0] > 1) == (offset < 1e-3)
+    *_, margin = depth_kernels._odd_runs(v1, boxes1, w, boxes2, cross, count, table, 0, 0)
     assert margin == pytest.approx(_plain_widest_odd_runs(v1, w, cross[:count]), rel=1e-12)
 
 
@@ -288,6 +290,27 @@ def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     xs = np.concatenate([x[only], *(x[only] + 0.999 * r * math.cos(t) for t in turns)])
     ys = np.concatenate([y[only], *(y[only] + 0.999 * r * math.sin(t) for t in turns)])
     width, _ = widest_window(part, xs, ys, segments=256)
+    assert np.all(width == 0)
+
+
+def test_a_shallow_overlap_of_closed_curves_is_certified_in_a_few_intervals_and_excluded_by_brute_force():
+    """Two unit circles (n = 2, Ψ = 0; 128-gons) overlapping about 3e-3 b deep cross twice across a lens about
+    one segment long. A pair of runs short on both sides keeps its ends apart only while a vertex of each lies
+    in the lens: one interval of φ per vertex passing it, over 100 around the circle. With curve 2's run
+    lengthened to the whole curve the pair holds until the turning curve sweeps over an end of curve 1's run:
+    8 intervals suffice at 24 positions. Each, and 16 points 0.999 r from each, is excluded exactly in φ."""
+    from sesp.orientations import widest_window
+
+    part, r = SeSP(n=2, opening=0.0), 1e-3
+    pair = as_pair(part, segments=128)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    angles = np.linspace(0.1, 0.1 + 2 * math.pi, 24, endpoint=False)
+    x, y = (2 - 3 * r) * np.cos(angles), (2 - 3 * r) * np.sin(angles)
+    assert depth_kernels.certified_deep(curves, x, y, r, 8).tolist() == [1] * 24
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x, *(x + 0.999 * r * math.cos(t) for t in turns)])
+    ys = np.concatenate([y, *(y + 0.999 * r * math.sin(t) for t in turns)])
+    width, _ = widest_window(part, xs, ys, segments=128)
     assert np.all(width == 0)
 
 

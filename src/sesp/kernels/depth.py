@@ -41,9 +41,14 @@ that without sampling φ:
 :func:`cover` walks around the circle of orientations: at the first φ not yet
 certified it looks for an arc pair with an odd crossing number and end points
 at least r from the other arc (the whole curves first, then runs of 1, 2, 4,
-... segments about each crossing), finds the interval of φ over which that
-pair stays certified (where there is none, two end points of the open curves),
-and continues from its end. The position is certified
+... segments about each crossing; the widest apart), finds the interval of φ
+over which that pair stays certified, and continues from its end. Where the
+curves run close about a crossing (a shallow lens), pairs short on both sides
+keep apart only while a vertex of each lies in the lens, one interval per
+vertex passing it; the same pair with one run lengthened to its whole curve
+holds until the turning curve sweeps over an end of the short run, and the
+longer interval is taken (:func:`_longest`). Where no pair keeps apart, two
+end points of the open curves may (:func:`two_tips`). The position is certified
 r deep when the intervals close around the circle. The bound is one-sided: a
 position whose certificate fails may still be that deep (for instance where
 the curves nearly coincide and cross many times within a short run).
@@ -64,6 +69,7 @@ MAX_CROSSINGS = 1024  # crossings of the two stored polylines at one φ at most;
 # a turn of φ over which two end points move curve 2 by less than this many r is given up as a step of their
 # walk: it nears an orientation where their half-planes stop covering the disk, in ever shorter steps (cost only)
 LEAST_TIP_STEP = 1e-6
+LONG_CROSSINGS = 16  # a run is lengthened to its whole curve only where the curves cross at most this often (cost only)
 
 
 @njit(**JIT)
@@ -139,9 +145,10 @@ def _nearest2(x, y, v, boxes, lo, hi, best2):
 
 
 @njit(**JIT)
-def _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1):
-    """Distance of the nearest end point of run i0..i1 of v1 to run j0..j1 of w, or of an end of w's run to v1's."""
-    m2 = _nearest2(v1[i0, 0], v1[i0, 1], w, boxes2, j0, j1, np.inf)
+def _ends_clearance(v1, boxes1, i0, i1, w, boxes2, j0, j1, most2=np.inf):
+    """Distance of the nearest end point of run i0..i1 of v1 to run j0..j1 of w, or of an end of w's run to v1's;
+    at most √``most2`` (a bound skips the segments farther than it)."""
+    m2 = _nearest2(v1[i0, 0], v1[i0, 1], w, boxes2, j0, j1, most2)
     m2 = _nearest2(v1[i1, 0], v1[i1, 1], w, boxes2, j0, j1, m2)
     m2 = _nearest2(w[j0, 0], w[j0, 1], v1, boxes1, i0, i1, m2)
     m2 = _nearest2(w[j1, 0], w[j1, 1], v1, boxes1, i0, i1, m2)
@@ -211,22 +218,27 @@ def _no_wider(v1, i0, i1, i, w, j0, j1, j, best):
 
 
 @njit(**JIT)
-def _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2):
+def _parities(cross, count, n1, n2):
+    """The parity table of :func:`_parity_table` where the crossings are many (counting them run by run would
+    cost more), else an empty one: :func:`_inside_parity` then counts."""
+    levels = int(math.log2(max(n1, n2))) + 1
+    if count * count * levels > (n1 + 1) * (n2 + 1):
+        return _parity_table(cross, count, n1, n2)
+    return np.zeros((1, 1), np.uint8)
+
+
+@njit(**JIT)
+def _odd_runs(v1, boxes1, w, boxes2, cross, count, table, p1, p2):
     """(i0, i1, j0, j1, margin): the runs of segments (vertices i0..i1 of v1, j0..j1 of w) with an odd number of
     crossings whose ends are farthest from the other run; margin -1 if none: the whole curves, and runs of 1, 2,
-    4, ... segments about each crossing. The widest margin certifies the longest interval of φ. ``p1``, ``p2``:
-    segments of a closed curve, stored twice over (0: open), whose runs may pass its first vertex. Where the
-    crossings are many, their parities come from a table; a run whose ends lie no farther from a few of the other run's
-    segments than the best margin so far is not measured (its margin cannot be wider)."""
+    4, ... segments about each crossing. ``p1``, ``p2``:
+    segments of a closed curve, stored twice over (0: open), whose runs may pass its first vertex. ``table``:
+    :func:`_parities`. A run whose ends lie no farther from a few of the other run's segments than the best
+    margin so far is not measured (its margin cannot be wider)."""
     n1 = v1.shape[0] - 1
     n2 = w.shape[0] - 1
     g1 = p1 if p1 else n1
     g2 = p2 if p2 else n2
-    levels = int(math.log2(max(n1, n2))) + 1
-    if count * count * levels > (n1 + 1) * (n2 + 1):  # counting run by run would cost more than the table
-        table = _parity_table(cross, count, n1, n2)
-    else:
-        table = np.zeros((1, 1), np.uint8)
     best = -1.0
     bi0 = bi1 = bj0 = bj1 = 0
     if _inside_parity(cross, count, table, 0, g1, 0, g2) == 1:
@@ -328,23 +340,25 @@ def _point_interval(ox, oy, ax, ay, bx, by, v, boxes, near, far, lo, hi, r, phi0
 
 @njit(**JIT)
 def _certified_interval(
-    v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi0, roots, behind, skip=-1
-):
+    v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi0, roots, behind, skip=-1,
+    least=-1.0
+):  # fmt: skip
     """(ahead, behind): the interval of φ about ``phi0`` over which every end point of the two runs stays at
     least ``r`` from the other run. ``frame_boxes2``: chunk boxes of curve 2 in its own frame; ``near1``,
     ``far1``: the distances of curve 1's segments from t; ``rin2``, ``rout2``: of curve 2's from its centre.
     ``behind``: 2π to find how far back the interval reaches, 0 where only ahead matters. ``skip``: an end not
-    to follow (0 to 3: i0, i1, j0, j1; −1 none)."""
+    to follow (0 to 3: i0, i1, j0, j1; −1 none). Where ahead + behind falls to ``least`` or below, it is returned
+    at once (shorter than an interval found already)."""
     ahead = TWO_PI
     for a in (i0, i1):  # a fixed end of run 1, seen from curve 2's frame, turns by −φ about the origin
-        if skip == (0 if a == i0 else 1):
+        if skip == (0 if a == i0 else 1) or ahead + behind <= least:
             continue
         gx, gy = v1[a, 0] - tx, v1[a, 1] - ty
         ahead, behind = _point_interval(
             0.0, 0.0, gx, gy, gy, -gx, v2, frame_boxes2, rin2, rout2, j0, j1, r, phi0, roots, ahead, behind
         )
     for b in (j0, j1):  # a moving end of run 2 turns by φ about t
-        if skip == (2 if b == j0 else 3):
+        if skip == (2 if b == j0 else 3) or ahead + behind <= least:
             continue
         wx, wy = v2[b, 0], v2[b, 1]
         ahead, behind = _point_interval(
@@ -585,8 +599,54 @@ def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
     count = crossings(v1, boxes1, w, boxes2, cross, p1, p2)
     if count < 0 or count > MAX_CROSSINGS:
         return count, 0, 0, 0, 0, -1.0
-    i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, p1, p2)
+    table = _parities(cross, count, v1.shape[0] - 1, w.shape[0] - 1)
+    i0, i1, j0, j1, margin = _odd_runs(v1, boxes1, w, boxes2, cross, count, table, p1, p2)
     return count, i0, i1, j0, j1, margin
+
+
+@njit(**JIT)
+def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first, lengthen=True):
+    """(ahead, behind, found): the longest interval of φ about ``phi`` (behind only where ``first``) certified by
+    the widest pair of ``got`` (:func:`_runs_at`; curve 2 in ``w``, crossings in ``cross``) where its ends are
+    ``r`` apart, or by that pair with one run lengthened to the whole of its curve (a closed curve's longest
+    run), where they cross oddly with their ends r apart; ``found`` False where none is. The ends of a whole
+    curve lie far from the crossing, so a lengthened pair stays certified until the turning curve sweeps over
+    an end of the short run: where the curves run close about a crossing (a shallow lens), pairs short on both
+    sides keep apart only while a vertex of each lies in the lens, one interval per vertex passing it. Tried
+    (if ``lengthen``) where the curves cross at most LONG_CROSSINGS times and the widest pair is not r apart,
+    or, for a closed curve 2, gives an interval shorter than a vertex takes to pass (2π / its segments). For
+    open curves a short interval there is mostly set by something else (an end point passing): trying there
+    cost more than it saved (cost only)."""
+    v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = curves
+    count, i0, i1, j0, j1, margin = got
+    behind0 = TWO_PI if first else 0.0
+    ahead, behind, found = 0.0, 0.0, margin >= r
+    if found:
+        ahead, behind = _certified_interval(
+            v1, boxes1, near1, far1, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi, roots, behind0
+        )
+    n1, n2 = v1.shape[0] - 1, v2.shape[0] - 1
+    if not lengthen or margin < 0.0 or count > LONG_CROSSINGS:
+        return ahead, behind, found
+    if found and (not p2 or ahead + behind >= TWO_PI / p2):
+        return ahead, behind, found
+    no_table = np.zeros((1, 1), np.uint8)
+    for side in (1, 2):
+        if side == 1:  # curve 2's run lengthened
+            a0, a1, b0, b1 = i0, i1, _run(j0, n2, p2, n2)[0], _run(j0, n2, p2, n2)[1]
+        else:
+            a0, a1, b0, b1 = _run(i0, n1, p1, n1)[0], _run(i0, n1, p1, n1)[1], j0, j1
+        if (a0, a1, b0, b1) == (i0, i1, j0, j1) or _inside_parity(cross, count, no_table, a0, a1, b0, b1) != 1:
+            continue
+        if _ends_clearance(v1, boxes1, a0, a1, w, boxes2, b0, b1, 4.0 * r * r) < r:
+            continue
+        a, b = _certified_interval(
+            v1, boxes1, near1, far1, a0, a1, v2, frame_boxes2, rin2, rout2, b0, b1, tx, ty, r, phi, roots, behind0,
+            -1, ahead + behind if found else -1.0,
+        )  # fmt: skip
+        if not found or a + b > ahead + behind:
+            ahead, behind, found = a, b, True
+    return ahead, behind, found
 
 
 @njit(**JIT)
@@ -597,9 +657,10 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
     fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
-    tried at a φ where those of ``plain`` are not r apart. The walk begins at φ = ``start`` (radians): where the
-    position is least deep there (an orientation allowed nearby), a walk that fails fails at once. ``tips``:
-    where one pair of runs falls short, try two end points of the open curves (:func:`two_tips`)."""
+    tried at a φ where no widest pair of ``plain`` is r apart. At each φ the pair that certifies the longest interval
+    is taken (:func:`_longest`). The walk begins at φ = ``start`` (radians): where the position is least deep
+    there (an orientation allowed nearby), a walk that fails fails at once. ``tips``: where no pair of runs is
+    r apart, try two end points of the open curves (:func:`two_tips`)."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
@@ -609,9 +670,9 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     cross, cross_h = np.empty((MAX_CROSSINGS, 2), dtype=np.int64), np.empty((MAX_CROSSINGS, 2), dtype=np.int64)
     roots = np.empty(16)
     phi = start
-    first_behind = 0.0
+    first, first_behind = True, 0.0
     proved = 1
-    for step in range(max_steps):
+    for _ in range(max_steps):
         got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         for _ in range(2):  # beside a degenerate touch the parity is defined
             if got[0] >= 0:
@@ -620,33 +681,25 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
             got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         if got[0] < 0 or got[0] > MAX_CROSSINGS:
             return 0
-        count = got[0]
-        curves, near, far = plain, near1, far1
-        if got[5] < r:  # runs that may end at the middle of a segment
+        ahead, behind, found = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
+        if got[5] < r:  # no widest pair: runs that may end at the middle of a segment
             finer = _runs_at(halved, tx, ty, phi, wh, boxes2h, cross_h)
-            if 0 <= finer[0] <= MAX_CROSSINGS and finer[5] > got[5]:
-                got, curves, near, far = finer, halved, near1h, far1h
-        _, i0, i1, j0, j1, margin = got
-        if tips and margin < r and proved == 1:  # two end points, each through or near a side of the other curve
-            ahead, behind = two_tips(plain, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots, step == 0)
-            if ahead > 0.0:
-                if step == 0:
-                    first_behind = behind
-                if phi + ahead >= start + TWO_PI - first_behind:
-                    return proved
-                phi += ahead + 1e-12
-                continue
-        if margin < r:
-            if not 0.0 < fallback <= margin:
-                return 0
+            if 0 <= finer[0] <= MAX_CROSSINGS:
+                a, b, f = _longest(
+                    halved, near1h, far1h, wh, boxes2h, cross_h, finer, tx, ty, r, phi, roots, first, False
+                )
+                if f and (not found or a + b > ahead + behind):
+                    ahead, behind, found = a, b, True
+        if not found and tips and proved == 1:  # two end points, each through or near a side of the other curve
+            ahead, behind = two_tips(plain, w, boxes2, cross, got[0], tx, ty, phi, r, near1, far1, roots, first)
+            found = ahead > 0.0
+        if not found and proved == 1 and fallback > 0.0:  # go on at ``fallback`` from this φ
             r, proved = fallback, 2
-        v1, boxes1, v2, frame_boxes2, rin2, rout2, _, _ = curves
-        ahead, behind = _certified_interval(
-            v1, boxes1, near, far, i0, i1, v2, frame_boxes2, rin2, rout2, j0, j1, tx, ty, r, phi, roots,
-            TWO_PI if step == 0 else 0.0,
-        )  # fmt: skip
-        if step == 0:
-            first_behind = behind
+            ahead, behind, found = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
+        if not found:
+            return 0
+        if first:
+            first, first_behind = False, behind
         if phi + ahead >= start + TWO_PI - first_behind:
             return proved
         phi += ahead + 1e-12  # the interval is closed: its end is certified
