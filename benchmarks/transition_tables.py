@@ -18,6 +18,12 @@ from sesp import SeSP
 from sesp.topology import transitions
 
 
+def _said(t, n, base, start):
+    """Print one change as soon as it is bracketed (a stopped run keeps what it found)."""
+    print(f"n = {n:g}, base {base}: {math.degrees(t.low):.3f}-{math.degrees(t.high):.3f} deg, "
+          f"{t.before.bracket} -> {t.after.bracket} ({time.perf_counter() - start:.0f} s in)", flush=True)  # fmt: skip
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--n", type=float, nargs="+", default=[2, 4, 8, 10])
@@ -33,12 +39,12 @@ def main():
           f"brackets at most {args.width:g}° wide\n")  # fmt: skip
     for n in args.n:
         seen = {}
-        for base in args.bases:  # each run's table is printed as soon as it is done: one run can take long
+        for base in args.bases:  # each change is printed as it is bracketed, each run's table when it is done
             start = time.perf_counter()
             found = transitions(
                 SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
                 width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
-                progress=True,
+                progress=True, on_change=lambda t, n=n, base=base, start=start: _said(t, n, base, start),
             )  # fmt: skip
             seconds = time.perf_counter() - start
             # where each change lies and what is known on each side (a count, or None where undecided)

@@ -73,9 +73,12 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
             self.done += n
 
     monkeypatch.setattr(topology, "progress_bar", Bar)
+    told = []
     found = transitions(
-        SeSP(n=2), (math.radians(140), math.radians(200)), step=math.radians(30), width=math.radians(4), **COARSE
-    )
+        SeSP(n=2), (math.radians(140), math.radians(200)), step=math.radians(30), width=math.radians(4),
+        on_change=told.append, **COARSE,
+    )  # fmt: skip
+    assert sorted(told, key=lambda t: t.low) == found.changes  # each change told as it was bracketed
     assert (bars[1].total, bars[1].done) == (len(found.counts) - 3,) * 2  # openings, then bisections
     assert len(found.changes) >= 2  # more than one change in a step: the bar grew
     openings = np.degrees(found.openings)

@@ -284,6 +284,7 @@ def _cmd_topology(args) -> int:
     found = transitions(
         family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
         base=args.base, segments=args.segments, progress=not args.quiet,
+        on_change=None if args.quiet else _print_change,
     )  # fmt: skip
     found.label = f"n = {family.n:g}, m = {family.m:g}, aspect {family.aspect:g}, {args.segments} segments"
     if args.json:
@@ -293,6 +294,13 @@ def _cmd_topology(args) -> int:
         print(found)
     _save_map_plot(args.plot, "transitions_plot", found, family=family)
     return 0
+
+
+def _print_change(t) -> None:
+    """One change of the count, to stderr as soon as it is bracketed (above the progress bar)."""
+    from tqdm.auto import tqdm
+
+    tqdm.write(f"found: {math.degrees(t.low):.3f} .. {math.degrees(t.high):.3f} deg: {t.what()}", file=sys.stderr)
 
 
 def _topology_at_opening(args) -> int:

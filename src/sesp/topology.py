@@ -216,6 +216,7 @@ def transitions(
     base: int = BASE,
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
+    on_change=None,
 ) -> Transitions:
     """Where the certified count of excluded components changes as the opening Ψ varies.
 
@@ -231,6 +232,9 @@ def transitions(
         rad: every change is bisected until its bracket is at most this wide.
     resolution, base, segments
         As for :func:`sesp.certified_components`.
+    on_change : callable, optional
+        Called with each :class:`Transition` as soon as it is bracketed (changes are bracketed from the
+        highest opening down): a long search shows, or keeps, what it found so far.
 
     Returns
     -------
@@ -274,6 +278,8 @@ def transitions(
             a, b = pending.pop()
             if b - a <= width:
                 changes.append(Transition(a, b, cache[a], cache[b]))
+                if on_change is not None:
+                    on_change(changes[-1])
                 continue
             mid = 0.5 * (a + b)
             count(mid)
