@@ -631,11 +631,12 @@ def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, 
     if found and (not p2 or ahead + behind >= TWO_PI / p2):
         return ahead, behind, found
     no_table = np.zeros((1, 1), np.uint8)
-    for side in (1, 2):
+    for side in (1, 2):  # about the run's middle: a closed curve's crossing, its longest run in the stored range
+        a0, a1, b0, b1 = i0, i1, j0, j1
         if side == 1:  # curve 2's run lengthened
-            a0, a1, b0, b1 = i0, i1, _run(j0, n2, p2, n2)[0], _run(j0, n2, p2, n2)[1]
+            b0, b1, _ = _run((j0 + j1) // 2, n2, p2, n2)
         else:
-            a0, a1, b0, b1 = _run(i0, n1, p1, n1)[0], _run(i0, n1, p1, n1)[1], j0, j1
+            a0, a1, _ = _run((i0 + i1) // 2, n1, p1, n1)
         if (a0, a1, b0, b1) == (i0, i1, j0, j1) or _inside_parity(cross, count, no_table, a0, a1, b0, b1) != 1:
             continue
         if _ends_clearance(v1, boxes1, a0, a1, w, boxes2, b0, b1, 4.0 * r * r) < r:
