@@ -36,10 +36,10 @@ than ε + rim (a point deeper than ε + its distance d to a certified disk
 joins that disk's part: the disk of radius p − ε about it lies in E_ε, the
 depth being 1-Lipschitz, and reaches d; a point within ε + rim of an allowed
 disk, an allowed point's clearance, is shallower than ε + rim). Refinement
-stops at cells of side ε/4; the floor cells left between two parts are then
-tried at their corners too (any allowed point bounds the depth near it, and
-the narrow allowed wedge of a pinch on x = 0 runs along cell edges, between
-centres). The centres of split cells stay known allowed points. A centre
+stops at cells of side ε/4. Cells between two parts whose diagonal is below
+ε are tried at their corners too, before they are split: an allowed corner
+then bounds the depth of every point of the cell below ε, and the narrow
+allowed wedge of a pinch on x = 0 runs along cell edges, between centres. The centres of split cells stay known allowed points. A centre
 that is not allowed at its first orientation is proved excluded by the depth
 certificate (at a depth of 1e-9 b) where it can be, which costs a fraction of
 the exact windows; the windows decide the rest.
@@ -403,7 +403,9 @@ class _Engine:
             while True:
                 status, hi, ea, eb = self.classify(L)
                 split, retry, between, seed, U = self._to_refine(L, status, hi, ea, eb)
-                if not split.any() and not retry.any() and not self._probe_corners(L, between):
+                if self._probe_corners(L, between & (2 * L.h < self.eps)):
+                    continue  # classified again, with the allowed corners found, before any is split
+                if not split.any() and not retry.any():
                     break
                 L = self._split(self._retry(L, retry), split)
                 if (now := int(L.level.max())) > deepest:
@@ -438,10 +440,10 @@ class _Engine:
         return split & ~retry, retry, between, seed, U
 
     def _probe_corners(self, L, left):
-        """Whether allowed corners were found for the ``left`` leaves: undecided, between two parts, and not
-        split further. A narrow allowed wedge (the pinch of lens and body at small Ψ lies on x = 0, a line of
+        """Whether allowed corners were found for the ``left`` leaves: undecided, between two parts, and with a
+        diagonal below ε. A narrow allowed wedge (the pinch of lens and body at small Ψ lies on x = 0, a line of
         cell edges) passes between cell centres; the corners of a cell are its points too, and an allowed one
-        bounds the depth of every cell near it."""
+        bounds the depth of every point of the cell below ε (and of every cell near it)."""
         if not left.any():
             return False
         finest = self.levels
