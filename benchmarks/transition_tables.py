@@ -2,10 +2,12 @@
 
 Every change is bracketed by bisection (``sesp.transitions``); the table
 says, per n, whether the brackets, and the counts decided on each side of
-them, are identical on every base grid given.
+them, are identical on every base grid given: for the certain changes (the
+counts on the two sides have no value in common) and for all of them (also
+where a count becomes undecided, which depends on the cells).
 
     python benchmarks/transition_tables.py [--n 2 4 8 10] [--bases 64 63 48] [--resolution 1e-5]
-                                           [--from 0] [--to 360] [--step 5] [--width 0.3]
+                                           [--from 0] [--to 360] [--step 4.8] [--width 0.3]
 """
 
 import argparse
@@ -31,7 +33,7 @@ def main():
     ap.add_argument("--resolution", type=float, default=1e-5, help="ε, b")
     ap.add_argument("--from", dest="start", type=float, default=0.0, help="degrees")
     ap.add_argument("--to", type=float, default=360.0, help="degrees")
-    ap.add_argument("--step", type=float, default=5.0, help="degrees")
+    ap.add_argument("--step", type=float, default=4.8, help="degrees (16 widths: four halvings end at the width)")
     ap.add_argument("--width", type=float, default=0.3, help="degrees")
     ap.add_argument("--segments", type=int, default=256)
     args = ap.parse_args()
@@ -48,18 +50,23 @@ def main():
             )  # fmt: skip
             seconds = time.perf_counter() - start
             # where each change lies and what is known on each side (a count, or None where undecided)
-            seen[base] = [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
-                           t.after.count) for t in found.changes]  # fmt: skip
+            got = {"certain changes": found.certain_changes(), "all changes": found.changes}
+            seen[base] = {which: [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
+                                   t.after.count) for t in ts] for which, ts in got.items()}  # fmt: skip
             rows = []
             for t in found.changes:
                 where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
                 change = f"{t.before.bracket} -> {t.after.bracket}"
-                rows.append([f"{n:g}", base, where, change, t.what().split("; ", 1)[-1][:70]])
-            rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", f"{seconds:.0f} s"])
-            table(rows, ["n", "base", "bracket (deg)", "count", "what"])
-            print(flush=True)
-        same = all(v == seen[args.bases[0]] for v in seen.values())
-        print(f"n = {n:g}: brackets {'identical' if same else 'NOT identical'} on bases {args.bases}\n", flush=True)
+                said = t.what().split("; ", 1)[-1][:70]
+                rows.append([f"{n:g}", base, where, change, "yes" if t.certain else "no", said])
+            rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", "", f"{seconds:.0f} s"])
+            table(rows, ["n", "base", "bracket (deg)", "count", "certain", "what"])
+            said = ", ".join(f"{a:.3f}-{b:.3f}: {c} -> {d}" for a, b, c, d in seen[base]["certain changes"])
+            print(f"certain changes (between decided counts): {said or 'none'}\n", flush=True)
+        for which in ("certain changes", "all changes"):
+            same = len({tuple(v[which]) for v in seen.values()}) == 1
+            print(f"n = {n:g}: {which} {'identical' if same else 'NOT identical'} on bases {args.bases}", flush=True)
+        print(flush=True)
 
 
 if __name__ == "__main__":

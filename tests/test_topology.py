@@ -93,6 +93,16 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
     assert "changes (brackets at most 4 deg wide)" in str(found)
     record = found.to_dict()
     assert record["units"]["lengths"] == "b" and len(record["transitions"]) == len(found.changes)
+    # certain: no count lies in both brackets (lens and body, 2, before and none after is such a change)
+    counts_in = [(set(range(t.before.low, t.before.high + 1)), set(range(t.after.low, t.after.high + 1)))
+                 for t in found.changes]  # fmt: skip
+    assert [t.certain for t in found.changes] == [not (a & b) for a, b in counts_in]
+    assert [r["certain"] for r in record["transitions"]] == [t.certain for t in found.changes]
+    # where the count certainly changes: between decided counts, here across undecided openings (2 -> 1 -> 0)
+    certain = found.certain_changes()
+    assert [(t.before.count, t.after.count) for t in certain] == [(2, 1), (1, 0)]
+    assert all(t.certain and t.low >= first.low and t.high <= last.high for t in certain)
+    assert "the count certainly changes" in str(found) and len(record["certain_changes"]) == 2
 
 
 def test_the_range_and_family_are_checked():

@@ -234,8 +234,8 @@ def _add_topology(sub):
         help="count the components of the excluded set eroded by EPS, b (default 1e-5)",
     )
     p.add_argument("--base", type=int, default=None, help="cells along each side at first (default 64)")
-    p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees "
-                   "(default 5)")  # fmt: skip
+    p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees, "
+                   "16 widths (default 4.8)")  # fmt: skip
     p.add_argument("--width", type=float, default=None, help="each change bracketed at least this narrowly, "
                    "degrees (default 0.3)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON object (lengths in b, angles in degrees)")

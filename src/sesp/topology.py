@@ -52,8 +52,8 @@ __all__ = [
     "WIDTH",
 ]
 
-STEP = math.radians(5.0)  # rad: openings first counted this far apart
 WIDTH = math.radians(0.3)  # rad: every change is bracketed at least this narrowly
+STEP = 16 * WIDTH  # rad (4.8°): openings first counted this far apart; four halvings end at the width exactly
 
 
 # --- transitions over the opening Ψ -------------------------------------------------------
@@ -96,9 +96,15 @@ class Transition:
         """rad: the middle of the bracket."""
         return 0.5 * (self.low + self.high)
 
+    @property
+    def certain(self) -> bool:
+        """Whether the count itself changes: the brackets on the two sides have no count in common. Otherwise
+        what is known of it changes (a count becomes undecided, or is decided), where the count may not."""
+        return self.before.high < self.after.low or self.after.high < self.before.low
+
     def what(self) -> str:
         """In words: the count on each side, and what the deepest component that appears or vanishes is."""
-        said = f"{self.before.bracket} -> {self.after.bracket}"
+        said = f"{self.before.bracket} -> {self.after.bracket}" + ("" if self.certain else " (the brackets overlap)")
         gone = _unmatched(self.before, self.after)
         new = _unmatched(self.after, self.before)
         if gone:
@@ -163,8 +169,21 @@ class Transitions:
             lines.append(f"  {math.degrees(t.low):9.3f} .. {math.degrees(t.high):9.3f}: {t.what()}")
         if not self.changes:
             lines.append("  none")
+        certain = self.certain_changes()
+        if certain and any(not t.certain for t in self.changes):
+            lines.append("the count certainly changes (between decided counts):")
+            for t in certain:
+                lines.append(f"  {math.degrees(t.low):9.3f} .. {math.degrees(t.high):9.3f}: {t.before.count} -> "
+                             f"{t.after.count}")  # fmt: skip
         lines.append(f"({len(self.counts)} openings counted, {self.seconds:.0f} s)")
         return "\n".join(lines)
+
+    def certain_changes(self) -> list:
+        """Where the count certainly changes: a :class:`Transition` between each two openings counted whose
+        counts are decided and differ, with no decided count between them. Where undecided counts lie between,
+        the bracket is wider than ``width``: the count is not decided there at this resolution."""
+        decided = [(o, f) for o, f in sorted(self.counts.items()) if f.count is not None]
+        return [Transition(a, b, fa, fb) for (a, fa), (b, fb) in zip(decided, decided[1:]) if fa.count != fb.count]
 
     def runs_of(self) -> list:
         """(first opening, last opening, Certified at the first): runs of openings with one count bracket."""
@@ -190,8 +209,13 @@ class Transitions:
             "transitions": [
                 {"low_deg": math.degrees(t.low), "high_deg": math.degrees(t.high), "low": t.low, "high": t.high,
                  "count_before": [t.before.low, t.before.high], "count_after": [t.after.low, t.after.high],
-                 "what": t.what()}
+                 "certain": t.certain, "what": t.what()}
                 for t in self.changes
+            ],
+            "certain_changes": [
+                {"low_deg": math.degrees(t.low), "high_deg": math.degrees(t.high), "low": t.low, "high": t.high,
+                 "count_before": t.before.count, "count_after": t.after.count}
+                for t in self.certain_changes()
             ],
         }  # fmt: skip
 
