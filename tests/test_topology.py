@@ -125,3 +125,20 @@ def test_a_step_is_bisected_where_what_is_known_of_the_count_changes():
     assert topology._changed(at(1, 3), at(1, 1)) and topology._changed(at(0, 1), at(2, 3))
     assert not topology._changed(at(2, 2), at(2, 2)) and not topology._changed(at(2, 4), at(1, 3))
     assert not topology._changed(at(2, 5), at(0, 2))
+
+
+def test_the_default_step_is_halved_to_the_width_in_four_counts(monkeypatch):
+    """A count that changes once (here 2 below 178°, 1 above) is bracketed in exactly four bisections from the
+    default step (16 widths), though the halved openings carry rounding: no fifth, costlier one."""
+    counted = []
+
+    def fake(particle, **_):
+        counted.append(particle.opening)
+        n = 2 if particle.opening < math.radians(178) else 1
+        return Certified(n, n, 1e-5, 1e-3, 2.5e-6)
+
+    monkeypatch.setattr(topology, "certified_components", fake)
+    found = transitions(SeSP(n=2))
+    (change,) = found.changes
+    assert len(counted) == 75 + 4 and math.radians(0.3) - 1e-15 < change.high - change.low <= math.radians(0.3) + 1e-12
+    assert change.low < math.radians(178) <= change.high

@@ -39,10 +39,11 @@ disk, an allowed point's clearance, is shallower than ε + rim). Refinement
 stops at cells of side ε/4. Cells between two parts whose diagonal is below
 ε are tried at their corners too, before they are split: an allowed corner
 then bounds the depth of every point of the cell below ε, and the narrow
-allowed wedge of a pinch on x = 0 runs along cell edges, between centres. The centres of split cells stay known allowed points. A centre
-that is not allowed at its first orientation is proved excluded by the depth
-certificate (at a depth of 1e-9 b) where it can be, which costs a fraction of
-the exact windows; the windows decide the rest.
+allowed wedge of a pinch on x = 0 runs along cell edges, between centres.
+The centres of split cells stay known allowed points. A centre that is not
+allowed at its first orientation is proved excluded by the depth certificate
+(at a depth of 1e-9 b) where it can be, which costs a fraction of the exact
+windows; the windows decide the rest.
 
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).

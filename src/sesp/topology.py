@@ -293,14 +293,16 @@ def transitions(
             bar.update(1)
     pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _changed(cache[a], cache[b])]
 
+    done = width + 1e-12  # rad: a bracket this narrow is done (the halved openings' rounding is far below this)
+
     def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
-        return max(0, math.ceil(math.log2((hi - lo) / width)))
+        return max(0, math.ceil(math.log2((hi - lo) / done)))
 
     changes = []
     with progress_bar(sum(halvings(a, b) for a, b in pending), progress, "bisections", unit="Ψ") as bar:
         while pending:
             a, b = pending.pop()
-            if b - a <= width:
+            if b - a <= done:
                 changes.append(Transition(a, b, cache[a], cache[b]))
                 if on_change is not None:
                     on_change(changes[-1])
