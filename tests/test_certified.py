@@ -349,3 +349,17 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
     want = naive.corridors(seed, passable, pairs, 2)
     assert got.any() or not want.any()
     np.testing.assert_array_equal(got, want)
+
+
+def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_report_says_so():
+    """The ASP at 172.5° and ε = 1e-3 b: the exact lens is 1 − sin(Ψ/2) = 2.14e-3 b deep, less than ε + the
+    default rim (a quarter of the body's depth, 1.6e-3 b), and lies in the body's undecided rim: the count is 1,
+    and the report states the depth below which such a component is not sought. With rim = ε the lens is found,
+    as deep as the exact one within a floor cell."""
+    asp = SeSP(n=2, opening=math.radians(172.5))
+    lens = 1 - math.sin(math.radians(172.5) / 2)
+    coarse = certified_components(asp, resolution=1e-3)
+    assert coarse.count == 1 and lens < coarse.resolution + coarse.rim
+    assert f"a component less than {coarse.resolution + coarse.rim:.1e} b deep" in str(coarse)
+    fine = certified_components(asp, resolution=1e-3, rim=1e-3)
+    assert fine.count == 2 and lens - 1e-4 < fine.components[1].depth <= lens * (1 + 1e-9)

@@ -205,8 +205,14 @@ class Certified:
         """The bracket with "(undecided)" where it is not one number: the head of a report or a map's title."""
         return self.bracket + (" (undecided)" if self.count is None else "")
 
+    @property
+    def searched(self) -> str:
+        """What the rim search leaves out, in words (the search's own length, beside ε)."""
+        return (f"  (rims searched to {self.rim:.1e} b: a component less than {self.resolution + self.rim:.1e} b deep "
+                "inside another's undecided rim is not sought; rim= in Python searches finer)")  # fmt: skip
+
     def __str__(self):
-        lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}"]
+        lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}", self.searched]
         for k, c in enumerate(self.components, 1):
             x0, x1, y0, y1 = c.box
             lines.append(
