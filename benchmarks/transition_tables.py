@@ -63,7 +63,7 @@ def main():
             table(rows, ["n", "base", "bracket (deg)", "count", "certain", "what"])
             said = ", ".join(f"{a:.3f}-{b:.3f}: {c} -> {d}" for a, b, c, d in seen[base]["certain changes"])
             print(f"certain changes (between decided counts): {said or 'none'}\n", flush=True)
-        for which in ("certain changes", "all changes"):
+        for which in ("certain changes", "all changes") if len(seen) > 1 else ():  # one grid: nothing to compare
             same = len({tuple(v[which]) for v in seen.values()}) == 1
             print(f"n = {n:g}: {which} {'identical' if same else 'NOT identical'} on bases {args.bases}", flush=True)
         print(flush=True)
