@@ -161,7 +161,7 @@ class Transitions:
             lines.append(self.label)
         lines.append(f"excluded components over the opening, at resolution {self.resolution:.1e} b (degrees)")
         if self.counts:
-            lines.append(min(self.counts.values(), key=lambda f: f.rim).searched)
+            lines.append(max(self.counts.values(), key=lambda f: f.rim).searched)  # the coarsest search: true of all
         lines.append(f"{'from':>9} {'to':>9} {'count':>6}")
         first = sorted(self.runs_of())
         for a, b, found in first:
