@@ -72,12 +72,17 @@ def _state(found: Certified) -> tuple:
     return found.low, found.high
 
 
+def _apart(a: Certified, b: Certified) -> bool:
+    """Whether the two count brackets have no count in common: the count itself differs."""
+    return a.high < b.low or b.high < a.low
+
+
 def _changed(a: Certified, b: Certified) -> bool:
     """Whether what is known of the count differs between two openings: a decided count changed, became
     undecided or was decided; two undecided brackets differ only where they do not overlap (where they do,
     where between them the count changes, if it does, is not known at this resolution)."""
     if a.count is None and b.count is None:
-        return a.high < b.low or b.high < a.low
+        return _apart(a, b)
     return _state(a) != _state(b)
 
 
@@ -100,7 +105,7 @@ class Transition:
     def certain(self) -> bool:
         """Whether the count itself changes: the brackets on the two sides have no count in common. Otherwise
         what is known of it changes (a count becomes undecided, or is decided), where the count may not."""
-        return self.before.high < self.after.low or self.after.high < self.before.low
+        return _apart(self.before, self.after)
 
     def what(self) -> str:
         """In words: the count on each side, and what the deepest component that appears or vanishes is."""
