@@ -71,6 +71,7 @@ from scipy.spatial import cKDTree
 
 from .kernels import cells as cell_kernels
 from .kernels import depth as depth_kernels
+from .kernels.common import small_chunks
 from .kernels.orientations import chunk_boxes, chunk_count, clearance_at, radial_spans, windows_at
 from .orientations import ANGLE_GAP, SCREEN_SLACK
 from .pair import as_pair
@@ -325,7 +326,8 @@ class _Engine:
         """b: how far each centre may move with curve 2 turned by ``phi`` before the pair meets (≤ 0: it meets)."""
         got = np.empty(len(x))
         p = self.pair
-        clearance_at(p.vertices1, self.boxes1, p.vertices2, x, y, phi, 2 * h + p.contact, got)
+        with small_chunks():
+            clearance_at(p.vertices1, self.boxes1, p.vertices2, x, y, phi, 2 * h + p.contact, got)
         return got - p.contact
 
     def _widest(self, x, y, phi, h):
@@ -347,10 +349,11 @@ class _Engine:
         """Whether each position is allowed, exactly in φ, and the middle of its widest window (radians)."""
         p, n = self.pair, len(x)
         width, mid, clear = np.empty(n), np.empty(n), np.empty(n)
-        windows_at(
-            p.vertices1, p.vertices2, self.spans2, self.boxes1, x, y, SCREEN_SLACK, ANGLE_GAP, p.contact,
-            np.zeros(n), width, mid, clear,
-        )  # fmt: skip
+        with small_chunks():
+            windows_at(
+                p.vertices1, p.vertices2, self.spans2, self.boxes1, x, y, SCREEN_SLACK, ANGLE_GAP, p.contact,
+                np.zeros(n), width, mid, clear,
+            )  # fmt: skip
         return width > 0, mid
 
     def _deep(self, x, y, h, steps, start):

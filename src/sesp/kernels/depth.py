@@ -62,7 +62,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, point_segment_distance2, sort_first
+from .common import JIT, point_segment_distance2, small_chunks, sort_first
 from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, chunk_count, sinusoid_roots
 
 MAX_CROSSINGS = 1024  # crossings of the two stored polylines at one φ at most; more and the certificate gives up
@@ -754,5 +754,6 @@ def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
-    cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), out)
+    with small_chunks():
+        cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), out)
     return out

@@ -5,7 +5,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, point_segment_distance2, sort_first
+from .common import JIT, point_segment_distance2, small_chunks, sort_first
 
 TWO_PI = 2.0 * math.pi
 
@@ -462,7 +462,8 @@ def blocked_intervals(v1, v2, tx, ty, slack, contact=0.0):
 def allowed_measures(v1, v2, xs, ys, slack, gap, contact=0.0):
     """(p,) measure in radians of the orientations allowed at each translation (xs[p], ys[p])."""
     out = np.empty(len(xs))
-    allowed_angle_at(v1, v2, radial_spans(v2), xs, ys, slack, gap, float(contact), out)
+    with small_chunks():
+        allowed_angle_at(v1, v2, radial_spans(v2), xs, ys, slack, gap, float(contact), out)
     return out
 
 
@@ -473,5 +474,6 @@ def widest_windows(v1, v2, xs, ys, slack, gap, contact=0.0, caps=None):
     caps = np.zeros(len(xs)) if caps is None else np.ascontiguousarray(caps, dtype=float)
     width, middle, clear = np.empty(len(xs)), np.empty(len(xs)), np.empty(len(xs))
     boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
-    windows_at(v1, v2, radial_spans(v2), boxes1, xs, ys, slack, gap, float(contact), caps, width, middle, clear)
+    with small_chunks():
+        windows_at(v1, v2, radial_spans(v2), boxes1, xs, ys, slack, gap, float(contact), caps, width, middle, clear)
     return width, middle, clear
