@@ -6,8 +6,11 @@ them, are identical on every base grid given: for the certain changes (the
 counts on the two sides have no value in common) and for all of them (also
 where a count becomes undecided, which depends on the cells).
 
+With several ``--workers`` each table is run once per number of worker processes, and the script says
+whether the tables are identical and how the times compare (the counts do not depend on them).
+
     python benchmarks/transition_tables.py [--n 2 4 8 10] [--bases 64 63 48] [--resolution 1e-5]
-                                           [--from 0] [--to 360] [--step 4.8] [--width 0.3]
+                                           [--from 0] [--to 360] [--step 4.8] [--width 0.3] [--workers 2]
 """
 
 import argparse
@@ -36,37 +39,55 @@ def main():
     ap.add_argument("--step", type=float, default=4.8, help="degrees (16 widths: four halvings end at the width)")
     ap.add_argument("--width", type=float, default=0.3, help="degrees")
     ap.add_argument("--segments", type=int, default=256)
+    ap.add_argument("--workers", type=int, nargs="+", default=[2], help="worker processes (each number is run)")
     args = ap.parse_args()
     print(f"machine: {machine()}; resolution {args.resolution:g} b, {args.segments} segments, step {args.step:g}°, "
           f"brackets at most {args.width:g}° wide\n")  # fmt: skip
     for n in args.n:
         seen = {}
         for base in args.bases:  # each change is printed as it is bracketed, each run's table when it is done
-            start = time.perf_counter()
-            found = transitions(
-                SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
-                width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
-                progress=True, on_change=lambda t, n=n, base=base, start=start: _said(t, n, base, start),
-            )  # fmt: skip
-            seconds = time.perf_counter() - start
+            runs = {}
+            for processes in args.workers:
+                found, seconds = _run(n, base, processes, args)
+                runs[processes] = ({o: (f.low, f.high) for o, f in found.counts.items()}, seconds)
             # where each change lies and what is known on each side (a count, or None where undecided)
             got = {"certain changes": found.certain_changes(), "all changes": found.changes}
             seen[base] = {which: [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
                                    t.after.count) for t in ts] for which, ts in got.items()}  # fmt: skip
-            rows = []
-            for t in found.changes:
-                where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
-                change = f"{t.before.bracket} -> {t.after.bracket}"
-                said = t.what().split("; ", 1)[-1][:70]
-                rows.append([f"{n:g}", base, where, change, "yes" if t.certain else "no", said])
-            rows.append([f"{n:g}", base, "-", f"{len(found.counts)} openings", "", f"{seconds:.0f} s"])
-            table(rows, ["n", "base", "bracket (deg)", "count", "certain", "what"])
-            said = ", ".join(f"{a:.3f}-{b:.3f}: {c} -> {d}" for a, b, c, d in seen[base]["certain changes"])
-            print(f"certain changes (between decided counts): {said or 'none'}\n", flush=True)
+            if len(runs) > 1:
+                same = len({tuple(sorted(counts.items())) for counts, _ in runs.values()}) == 1
+                first = runs[args.workers[0]][1]
+                times = ", ".join(f"{p} workers {t:.0f} s ({t / first:.2f})" for p, (_, t) in runs.items())
+                print(f"n = {n:g}, base {base}: counts at every opening {'identical' if same else 'NOT identical'}; "
+                      f"{times}\n", flush=True)  # fmt: skip
         for which in ("certain changes", "all changes") if len(seen) > 1 else ():  # one grid: nothing to compare
             same = len({tuple(v[which]) for v in seen.values()}) == 1
             print(f"n = {n:g}: {which} {'identical' if same else 'NOT identical'} on bases {args.bases}", flush=True)
         print(flush=True)
+
+
+def _run(n, base, processes, args):
+    """One table: its changes printed as they are bracketed, then the table; (Transitions, seconds)."""
+    start = time.perf_counter()
+    found = transitions(
+        SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
+        width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
+        progress=True, workers=processes,
+        on_change=lambda t: _said(t, n, base, start),
+    )  # fmt: skip
+    seconds = time.perf_counter() - start
+    rows = []
+    for t in found.changes:
+        where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
+        change = f"{t.before.bracket} -> {t.after.bracket}"
+        said = t.what().split("; ", 1)[-1][:70]
+        rows.append([f"{n:g}", base, processes, where, change, "yes" if t.certain else "no", said])
+    rows.append([f"{n:g}", base, processes, "-", f"{len(found.counts)} openings", "", f"{seconds:.0f} s"])
+    table(rows, ["n", "base", "workers", "bracket (deg)", "count", "certain", "what"])
+    said = ", ".join(f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}: {t.before.count} -> {t.after.count}"
+                     for t in found.certain_changes())  # fmt: skip
+    print(f"certain changes (between decided counts): {said or 'none'}\n", flush=True)
+    return found, seconds
 
 
 if __name__ == "__main__":

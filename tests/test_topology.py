@@ -105,11 +105,27 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
     assert "the count certainly changes" in str(found) and len(record["certain_changes"]) == 2
 
 
+@pytest.mark.slow
+def test_counts_in_worker_processes_are_those_counted_here():
+    """Openings counted in two worker processes give the counts, and so the changes, counted in this one. While
+    the middle of 150°-200° is counted the other worker counts ahead at 162.5° and 187.5°; only the one the
+    bisection then asks for is kept."""
+    args = (SeSP(n=2), (math.radians(150), math.radians(200)))
+    kwargs = dict(step=math.radians(50), width=math.radians(12.5), **COARSE)
+    here, there = transitions(*args, workers=1, **kwargs), transitions(*args, workers=2, **kwargs)
+    assert {o: (f.low, f.high) for o, f in here.counts.items()} == {o: (f.low, f.high) for o, f in there.counts.items()}
+    assert len(here.counts) == 4 and [(t.low, t.high) for t in here.changes] == [(t.low, t.high) for t in there.changes]
+    for o, f in here.counts.items():
+        assert all(np.array_equal(f.cells[k], there.counts[o].cells[k]) for k in f.cells)
+
+
 def test_the_range_and_family_are_checked():
     with pytest.raises(ValueError, match="openings"):
         transitions(SeSP(n=2), (1.0, 0.5))
     with pytest.raises(ValueError, match="step and width"):
         transitions(SeSP(n=2), (0.5, 1.0), width=0.0)
+    with pytest.raises(ValueError, match="workers"):
+        transitions(SeSP(n=2), (0.5, 1.0), workers=0)
     with pytest.raises(TypeError, match="family"):
         opening_family(3)
 
@@ -138,7 +154,7 @@ def test_the_default_step_is_halved_to_the_width_in_four_counts(monkeypatch):
         return Certified(n, n, 1e-5, 1e-3, 2.5e-6)
 
     monkeypatch.setattr(topology, "certified_components", fake)
-    found = transitions(SeSP(n=2))
+    found = transitions(SeSP(n=2), workers=1)
     (change,) = found.changes
     assert len(counted) == 75 + 4 and math.radians(0.3) - 1e-15 < change.high - change.low <= math.radians(0.3) + 1e-12
     assert change.low < math.radians(178) <= change.high

@@ -238,6 +238,8 @@ def _add_topology(sub):
                    "16 widths (default 4.8)")  # fmt: skip
     p.add_argument("--width", type=float, default=None, help="each change bracketed at least this narrowly, "
                    "degrees (default 0.3)")  # fmt: skip
+    p.add_argument("--workers", type=int, default=None, help="without --opening: openings counted at once, each in "
+                   "a worker process (default: all cores)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON object (lengths in b, angles in degrees)")
     p.add_argument(
         "--plot",
@@ -277,6 +279,8 @@ def _cmd_topology(args) -> int:
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
         raise ValueError(f"--opening-range must satisfy 0 <= LOW < HIGH <= 360 degrees, got {lo} {hi}")
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be a whole number of processes >= 1, got {args.workers}")
     step = _positive_degrees("--step", args.step, 1e-4, 360.0)
     width = _positive_degrees("--width", args.width, 1e-6, 90.0)
     family = _shape_from_args(args, 0.0)
@@ -284,7 +288,7 @@ def _cmd_topology(args) -> int:
     found = transitions(
         family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
         base=args.base, segments=args.segments, progress=not args.quiet,
-        on_change=None if args.quiet else _print_change,
+        on_change=None if args.quiet else _print_change, workers=args.workers,
     )  # fmt: skip
     found.label = f"n = {family.n:g}, m = {family.m:g}, aspect {family.aspect:g}, {args.segments} segments"
     if args.json:

@@ -64,14 +64,13 @@ import itertools
 import json
 import logging
 import math
-import multiprocessing
 import os
 import signal
 import tempfile
 import threading
 import time
 import tomllib
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -90,6 +89,7 @@ from .pair import Pair
 from .progress import progress_bar
 from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
+from .workers import start_pool, stop_pool
 
 __all__ = ["SweepSpec", "SweepPoint", "load_spec", "run", "collect", "compute_point", "KEEP"]
 
@@ -624,14 +624,13 @@ def _execute_local(todo, folder, workers, bar):
         return
     workers = min(workers, len(todo))
     threads = max(1, (os.cpu_count() or 1) // workers)
-    ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_init_worker, initargs=(threads, os.getpid()))
+    pool = start_pool(workers, _init_worker, (threads, os.getpid()))
     try:
         for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in todo]):
             future.result()
             bar.update()
     except BaseException:  # Ctrl-C, or a failed point: stop now, not after every queued point
-        _stop_pool(pool)
+        stop_pool(pool)
         remove_stale_temporaries(folder, todo)
         raise
     pool.shutdown()
@@ -670,26 +669,6 @@ def remove_stale_temporaries(folder, points):
                 path.unlink(missing_ok=True)
         finally:
             os.close(lock)
-
-
-def _stop_pool(pool, grace: float = 3.0):
-    """Interrupt the workers so they remove what they were writing and leave, cancel what has not started,
-    kill stragglers. The workers are told first: none is left reading a queue that the shutdown closes."""
-    processes = list((getattr(pool, "_processes", None) or {}).values())
-    try:
-        for process in processes:
-            if process.is_alive():
-                os.kill(process.pid, signal.SIGINT)
-        pool.shutdown(wait=False, cancel_futures=True)
-        deadline = time.monotonic() + grace
-        for process in processes:
-            process.join(max(0.0, deadline - time.monotonic()))
-    finally:  # also when a second Ctrl-C lands here
-        for process in processes:
-            if process.is_alive():
-                process.kill()
-        for process in processes:
-            process.join(2.0)  # gone, so its lock is released and what it was writing can be removed
 
 
 def _execute_dask(todo, folder, scheduler, bar):

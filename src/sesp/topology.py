@@ -27,10 +27,15 @@ quote :func:`sesp.certified_components`.
 from __future__ import annotations
 
 import dataclasses
+import heapq
+import itertools
 import math
+import os
 import time
+from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -40,6 +45,7 @@ from .kernels import cells as cell_kernels
 from .pair import Pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS, SeSP
+from .workers import start_pool, stop_pool
 
 __all__ = [
     "LatticeComponents",
@@ -248,6 +254,7 @@ def transitions(
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
     on_change=None,
+    workers: int | None = None,
 ) -> Transitions:
     """Where the certified count of excluded components changes as the opening Ψ varies.
 
@@ -264,8 +271,12 @@ def transitions(
     resolution, base, segments
         As for :func:`sesp.certified_components`.
     on_change : callable, optional
-        Called with each :class:`Transition` as soon as it is bracketed (changes are bracketed from the
-        highest opening down): a long search shows, or keeps, what it found so far.
+        Called with each :class:`Transition` as soon as it is bracketed: a long search shows, or keeps, what
+        it found so far.
+    workers : int, optional
+        Count this many openings at once, each in a worker process (default: one per core; 1: in this
+        process, one opening at a time with all of numba's threads). The counts, and so the result, are the
+        same (``benchmarks/transition_tables.py --workers 1 2``).
 
     Returns
     -------
@@ -284,46 +295,148 @@ def transitions(
     """
     if not (step > 0 and width > 0 and math.isfinite(step) and math.isfinite(width)):
         raise ValueError(f"step and width must be angles > 0 (rad), got {step!r}, {width!r}")
+    workers = (os.cpu_count() or 1) if workers is None else workers
+    if not (isinstance(workers, int | np.integer) and workers >= 1):
+        raise ValueError(f"workers must be a whole number of processes >= 1, got {workers!r}")
     grid = _openings(openings, step)
-    make = opening_family(family)
     start = time.perf_counter()
+    counter = _Counter(opening_family(family), (resolution, base, segments), int(workers))
+    try:
+        cache, changes = _search(counter, grid, width, progress, on_change)
+    except BaseException:  # Ctrl-C, or a failed count: stop the workers now
+        counter.stop()
+        raise
+    counter.close()
+    changes.sort(key=lambda t: t.low)
+    return Transitions(cache, changes, resolution, step, width, seconds=time.perf_counter() - start)
+
+
+def _search(counter, grid, width, progress, on_change):
+    """(counts per opening, changes): counts at ``grid``, then every step where what is known changes bisected
+    to ``width`` (:func:`transitions`)."""
     cache = {}
-
-    def count(opening):
-        if opening not in cache:
-            cache[opening] = certified_components(make(opening), resolution=resolution, base=base, segments=segments)
-        return cache[opening]
-
     with progress_bar(len(grid), progress, "openings", unit="Ψ") as bar:
         for o in grid:
-            count(o)
+            counter.ask(o)
+        while (got := counter.next()) is not None:
+            cache[got[0]] = got[1]
             bar.update(1)
     pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _changed(cache[a], cache[b])]
-
     done = width + 1e-12  # rad: a bracket this narrow is done (the halved openings' rounding is far below this)
 
     def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
         return max(0, math.ceil(math.log2((hi - lo) / done)))
 
-    changes = []
+    changes, brackets = [], {}  # brackets: the middle being counted -> its bracket
+
+    def bisect(a, b):
+        if b - a > done:
+            brackets[0.5 * (a + b)] = (a, b)
+            counter.ask(0.5 * (a + b), max(cache[a].seconds, cache[b].seconds))
+            return
+        changes.append(Transition(a, b, cache[a], cache[b]))
+        if on_change is not None:
+            on_change(changes[-1])
+
+    def guess():  # an opening a bisection under way may ask for next: a middle of a half of the costliest
+        options = [(-max(cache[a].seconds, cache[b].seconds), q) for mid, (a, b) in brackets.items() if b - a > 2 * done
+                   for q in (0.5 * (a + mid), 0.5 * (mid + b)) if q not in cache and not counter.knows(q)]  # fmt: skip
+        return min(options)[1] if options else None
+
+    counter.guess = guess
     with progress_bar(sum(halvings(a, b) for a, b in pending), progress, "bisections", unit="Ψ") as bar:
-        while pending:
-            a, b = pending.pop()
-            if b - a <= done:
-                changes.append(Transition(a, b, cache[a], cache[b]))
-                if on_change is not None:
-                    on_change(changes[-1])
-                continue
-            mid = 0.5 * (a + b)
-            count(mid)
+        for a, b in pending:
+            bisect(a, b)
+        while (got := counter.next()) is not None:
+            mid, found = got
+            cache[mid] = found
             bar.update(1)
+            a, b = brackets.pop(mid)
             halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if _changed(cache[lo], cache[hi])]
             if len(halves) != 1:  # a second branch to bisect, or none left (the change undid itself)
                 bar.total += (len(halves) - 1) * halvings(a, mid)
                 bar.refresh()
-            pending.extend(halves)
-    changes.sort(key=lambda t: t.low)
-    return Transitions(cache, changes, resolution, step, width, seconds=time.perf_counter() - start)
+            for lo, hi in halves:
+                bisect(lo, hi)
+    return cache, changes
+
+
+def _count(particle, resolution, base, segments) -> Certified:
+    """One opening's certified count (in a worker process where there are several)."""
+    return certified_components(particle, resolution=resolution, base=base, segments=segments)
+
+
+class _Counter:
+    """Counts openings: in this process, or in ``workers`` worker processes (each with an equal share of this
+    process's numba threads; the counts do not depend on it), each as soon as one is free. The costliest
+    opening asked for goes first (``cost``: the seconds its bracket's ends took), so the chain of bisections
+    that takes longest starts first. A worker with nothing asked of it counts ahead what ``guess`` says may be
+    asked next (the next middles of a bracket being bisected); a count ahead that is never asked for is
+    dropped, so the result is the same."""
+
+    def __init__(self, make, settings, workers):
+        self.make, self.settings, self.workers = make, settings, workers
+        self.waiting, self.running = [], {}  # waiting: a heap of (-cost, order asked, opening)
+        self.asked = itertools.count()
+        self.ahead, self.spare, self.ready = set(), {}, []  # counting ahead; counted ahead; asked, counted ahead
+        self.guess = None
+        threads = max(1, numba.get_num_threads() // workers)
+        self.pool = None if workers == 1 else start_pool(workers, numba.set_num_threads, (threads,))
+
+    def ask(self, opening, cost=0.0):
+        if opening in self.spare:
+            self.ready.append((opening, self.spare.pop(opening)))
+        elif opening in self.ahead:
+            self.ahead.discard(opening)  # now asked for: returned when it is done
+        else:
+            heapq.heappush(self.waiting, (-cost, next(self.asked), opening))
+
+    def knows(self, opening) -> bool:
+        """Whether ``opening`` is asked for or counted ahead (its count done or under way)."""
+        return opening in self.spare or opening in self.running.values() or any(w[2] == opening for w in self.waiting)
+
+    def next(self):
+        """(opening, Certified) for one opening asked for, or None when none is left."""
+        if self.ready:
+            return self.ready.pop(0)
+        if self.pool is None:
+            if not self.waiting:
+                return None
+            opening = heapq.heappop(self.waiting)[2]
+            return opening, _count(self.make(opening), *self.settings)
+        self._fill()
+        while self.waiting or any(o not in self.ahead for o in self.running.values()):
+            finished, _ = wait(self.running, return_when=FIRST_COMPLETED)
+            future = min(finished, key=self.running.get)
+            opening = self.running.pop(future)
+            if opening not in self.ahead:
+                return opening, future.result()
+            self.ahead.discard(opening)
+            self.spare[opening] = future.result()
+            self._fill()
+        return None
+
+    def _fill(self):
+        """Give each free worker the costliest opening asked for, or else one to count ahead."""
+        while len(self.running) < self.workers:
+            if self.waiting:
+                opening = heapq.heappop(self.waiting)[2]
+            elif self.guess is not None and (opening := self.guess()) is not None:
+                self.ahead.add(opening)
+            else:
+                return
+            self.running[self.pool.submit(_count, self.make(opening), *self.settings)] = opening
+
+    def stop(self):
+        if self.pool is not None:
+            stop_pool(self.pool)
+
+    def close(self):
+        """Shut the workers down; counts ahead still under way are not waited for."""
+        if self.pool is not None and self.running:
+            stop_pool(self.pool, interrupt=False)
+        elif self.pool is not None:
+            self.pool.shutdown()
 
 
 # --- components of a stored field ---------------------------------------------------------

@@ -1,0 +1,50 @@
+"""Worker processes for independent jobs (sweep points, counts at openings): started, and stopped on Ctrl-C."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import time
+from concurrent.futures import Future, ProcessPoolExecutor
+
+__all__ = ["InThisProcess", "start_pool", "stop_pool"]
+
+
+def start_pool(workers: int, initializer, initargs=()) -> ProcessPoolExecutor:
+    """``workers`` processes, each set up by ``initializer(*initargs)`` (which should set its numba threads)."""
+    ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
+    return ProcessPoolExecutor(workers, mp_context=ctx, initializer=initializer, initargs=initargs)
+
+
+def stop_pool(pool, grace: float = 3.0, interrupt: bool = True):
+    """Interrupt the workers so they remove what they were writing and leave, cancel what has not started,
+    kill stragglers. The workers are told first: none is left reading a queue that the shutdown closes.
+    ``interrupt`` False: kill them at once (they write nothing to remove)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    try:
+        for process in processes:
+            if process.is_alive() and interrupt:
+                os.kill(process.pid, signal.SIGINT)
+            elif process.is_alive():
+                process.kill()
+        pool.shutdown(wait=False, cancel_futures=True)
+        deadline = time.monotonic() + grace
+        for process in processes:
+            process.join(max(0.0, deadline - time.monotonic()))
+    finally:  # also when a second Ctrl-C lands here
+        for process in processes:
+            if process.is_alive():
+                process.kill()
+        for process in processes:
+            process.join(2.0)  # gone, so its lock is released and what it was writing can be removed
+
+
+class InThisProcess:
+    """An executor with one worker, this process: ``submit`` runs the call at once (its exception is raised
+    there) and returns a finished future."""
+
+    def submit(self, fn, *args, **kwargs) -> Future:
+        future = Future()
+        future.set_result(fn(*args, **kwargs))
+        return future
