@@ -53,6 +53,12 @@ components down to ``rim`` (b; default 100 ε, at most half a base cell's
 half-diagonal) or a quarter of the candidate's certified depth, whichever is
 smaller: a component shallower than ε + that length lying inside the
 undecided rim of another is not found (stated in :attr:`Certified.rim`).
+Why a second length: beside a part, a sliver of E_ε parted from it by an
+allowed finger needs only about 3ε across (ε, finger, ε, sliver, ε), so it
+fits inside one cell and between the points at which certificates are made;
+only cells about ε wide along the whole rim could rule it out, which costs
+far more than the rest of the count. The rim bounds instead how shallow
+such a sliver may be.
 
 The count is that of the polylines. Where ε is below their departure from
 the smooth curves (:attr:`sesp.Pair.departure`), a component or a join
