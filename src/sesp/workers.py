@@ -6,9 +6,9 @@ import multiprocessing
 import os
 import signal
 import time
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor
 
-__all__ = ["InThisProcess", "start_pool", "stop_pool"]
+__all__ = ["start_pool", "stop_pool"]
 
 
 def start_pool(workers: int, initializer, initargs=()) -> ProcessPoolExecutor:
@@ -38,13 +38,3 @@ def stop_pool(pool, grace: float = 3.0, interrupt: bool = True):
                 process.kill()
         for process in processes:
             process.join(2.0)  # gone, so its lock is released and what it was writing can be removed
-
-
-class InThisProcess:
-    """An executor with one worker, this process: ``submit`` runs the call at once (its exception is raised
-    there) and returns a finished future."""
-
-    def submit(self, fn, *args, **kwargs) -> Future:
-        future = Future()
-        future.set_result(fn(*args, **kwargs))
-        return future
