@@ -171,8 +171,9 @@ class Transitions:
         if self.label:
             lines.append(self.label)
         lines.append(f"excluded components over the opening, at resolution {self.resolution:.1e} b (degrees)")
-        if self.counts:
-            lines.append(max(self.counts.values(), key=lambda f: f.rim).searched)  # the coarsest search: true of all
+        searched = [f for f in self.counts.values() if f.low]  # with a certified part: only those have rims
+        if searched:
+            lines.append(max(searched, key=lambda f: f.rim).searched)  # the coarsest search: true of all
         lines.append(f"{'from':>9} {'to':>9} {'count':>6}")
         first = sorted(self.runs_of())
         for a, b, found in first:
