@@ -47,9 +47,9 @@ def main():
         seen = {}
         for base in args.bases:  # each change is printed as it is bracketed, each run's table when it is done
             runs = {}
-            for processes in args.workers:
-                found, seconds = _run(n, base, processes, args)
-                runs[processes] = ({o: (f.low, f.high) for o, f in found.counts.items()}, seconds)
+            for workers in args.workers:
+                found, seconds = _run(n, base, workers, args)
+                runs[workers] = ({o: (f.low, f.high) for o, f in found.counts.items()}, seconds)
             # where each change lies and what is known on each side (a count, or None where undecided)
             got = {"certain changes": found.certain_changes(), "all changes": found.changes}
             seen[base] = {which: [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
@@ -66,13 +66,13 @@ def main():
         print(flush=True)
 
 
-def _run(n, base, processes, args):
+def _run(n, base, workers, args):
     """One table: its changes printed as they are bracketed, then the table; (Transitions, seconds)."""
     start = time.perf_counter()
     found = transitions(
         SeSP(n=n), (math.radians(args.start), math.radians(args.to)), step=math.radians(args.step),
         width=math.radians(args.width), resolution=args.resolution, base=base, segments=args.segments,
-        progress=True, workers=processes,
+        progress=True, workers=workers,
         on_change=lambda t: _said(t, n, base, start),
     )  # fmt: skip
     seconds = time.perf_counter() - start
@@ -81,8 +81,8 @@ def _run(n, base, processes, args):
         where = f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}"
         change = f"{t.before.bracket} -> {t.after.bracket}"
         said = t.what().split("; ", 1)[-1][:70]
-        rows.append([f"{n:g}", base, processes, where, change, "yes" if t.certain else "no", said])
-    rows.append([f"{n:g}", base, processes, "-", f"{len(found.counts)} openings", "", f"{seconds:.0f} s"])
+        rows.append([f"{n:g}", base, workers, where, change, "yes" if t.certain else "no", said])
+    rows.append([f"{n:g}", base, workers, "-", f"{len(found.counts)} openings", "", f"{seconds:.0f} s"])
     table(rows, ["n", "base", "workers", "bracket (deg)", "count", "certain", "what"])
     said = ", ".join(f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}: {t.before.count} -> {t.after.count}"
                      for t in found.certain_changes())  # fmt: skip
