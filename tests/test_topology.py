@@ -111,8 +111,8 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
 @pytest.mark.slow
 def test_counts_in_worker_processes_are_those_counted_here():
     """Openings counted in two worker processes give the counts, and so the changes, counted in this one. While
-    the middle of 150°-200° is counted the other worker counts ahead at 162.5° and 187.5°; only the one the
-    bisection then asks for is kept."""
+    the middle of 150°-200° is counted the other worker counts ahead at a middle of one of its halves; it is
+    kept only if the bisection then asks for it."""
     args = (SeSP(n=2), (math.radians(150), math.radians(200)))
     kwargs = dict(step=math.radians(50), width=math.radians(12.5), **COARSE)
     here, there = transitions(*args, workers=1, **kwargs), transitions(*args, workers=2, **kwargs)
