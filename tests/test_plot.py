@@ -126,19 +126,26 @@ def test_transitions_plot_shades_brackets_marks_undecided_counts_and_names_the_p
         parts = [CertifiedComponent(1, d, 0.1, 0.2, (0.0, 1.0, -0.5, 0.5)) for d in depths]
         return Certified(low, high, 1e-5, 1e-3, 2e-6, parts)
 
-    table = [(0, (1, 1, [0.9])), (90, (2, 2, [0.9, 0.3])), (170, (2, 3, [0.5, 0.01])), (180, (0, 0, []))]
+    table = [
+        (0, (1, 1, [0.9])), (90, (2, 2, [0.9, 0.3])), (170, (2, 3, [0.5, 0.01])), (175, (1, 434, [0.5])),
+        (180, (0, 0, [])),
+    ]  # fmt: skip
     counts = {math.radians(d): found(*c) for d, c in table}
     rad = sorted(counts)
-    changes = [Transition(rad[i], rad[i + 1], counts[rad[i]], counts[rad[i + 1]]) for i in range(3)]
+    changes = [Transition(rad[i], rad[i + 1], counts[rad[i]], counts[rad[i + 1]]) for i in range(4)]
     result = Transitions(counts, changes, 1e-5, math.radians(5), math.radians(0.3))
     fig = plot.transitions_plot(result, family=SeSP(n=4))
     top, zoomed = fig.axes[0], fig.axes[1]
     assert zoomed.get_xlim() == (165.0, 181.0)
-    assert list(top.lines[0].get_ydata()) == [1, 2, 2, 0]
-    assert len(top.patches) == 3  # one bracket per change
-    assert len(top.collections[0].get_segments()) == 1  # the undecided count at 170°, drawn as its bracket
+    assert list(top.lines[0].get_ydata()) == [1, 2, 2, 1, 0]
+    assert len(top.patches) == 4  # one bracket per change
+    bars = [s[:, 1].tolist() for s in top.collections[0].get_segments()]
+    assert bars == [[2, 3], [1, 5]]  # undecided at 170° and 175°: the second cut at the largest low end + 3
+    assert top.get_ylim() == (-0.3, 5.3)  # the counts stay readable beside a high end of 434
+    assert list(top.lines[1].get_xdata()) == [175]  # ... which is marked at the cut
     assert fig._suptitle.get_text().startswith("n = 4: excluded components at resolution 1e-05 b")
-    assert "undecided: the bracket" in [t.get_text() for t in top.get_legend().get_texts()]
+    legend = [t.get_text() for t in top.get_legend().get_texts()]
+    assert "undecided: the bracket" in legend and "bracket reaching above 5" in legend
     assert_not_blank(_save(fig, tmp_path / "m.png"))
 
 

@@ -618,7 +618,8 @@ def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
     """The certified count over the opening (:func:`sesp.topology.transitions`), with each change's bracket.
 
     Top: the count at every opening counted (a bar from the bracket's low to
-    its high end where it is undecided), each change's bracket shaded. Bottom:
+    its high end where it is undecided, cut and marked ▲ above three more than
+    the largest low end), each change's bracket shaded. Bottom:
     every component's certified depth (b, log scale): how thin a component is
     when it appears or vanishes. The right-hand column repeats both over
     ``zoom`` (degrees; None, or a range searched less than three times as
@@ -639,10 +640,15 @@ def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
     counts = [found.counts[o] for o in found.openings]
     low = np.array([c.low for c in counts])
     high = np.array([c.high for c in counts])
+    # the axis ends a little above the largest low end: an undecided high end of hundreds (floor specks) would
+    # squeeze the counts themselves into the bottom rows; such bars are cut there and marked ▲
+    ceiling = int(low.max(initial=0)) + 3
+    undecided, above = high > low, high > ceiling
     for top, bottom in axes.T:
         top.step(deg, low, where="post", color="C0", lw=1.2)
-        undecided = high > low
-        top.vlines(deg[undecided], low[undecided], high[undecided], color="C3", lw=2)
+        top.vlines(deg[undecided], low[undecided], np.minimum(high, ceiling)[undecided], color="C3", lw=2)
+        top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5, clip_on=False)
+        top.set_ylim(-0.3, ceiling + 0.3)
         for t in found.changes:
             top.axvspan(math.degrees(t.low), math.degrees(t.high), color="C1", alpha=0.3, lw=0)
         for o, c in zip(deg, counts):
@@ -660,7 +666,9 @@ def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
     handles = [
         Line2D([], [], color="C0", lw=1.2, label="count"),
         Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"),
-        *([Line2D([], [], color="C3", lw=2, label="undecided: the bracket")] if np.any(high > low) else []),
+        *([Line2D([], [], color="C3", lw=2, label="undecided: the bracket")] if undecided.any() else []),
+        *([Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}")]
+          if above.any() else []),
     ]
     axes[0, 0].legend(handles=handles, frameon=False, fontsize=7)
     named = f"{shape_label(family, opening=False)}: " if family is not None else ""
