@@ -667,8 +667,11 @@ def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
         Line2D([], [], color="C0", lw=1.2, label="count"),
         Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"),
         *([Line2D([], [], color="C3", lw=2, label="undecided: the bracket")] if undecided.any() else []),
-        *([Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}")]
-          if above.any() else []),
+        *(
+            [Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}")]
+            if above.any()
+            else []
+        ),
     ]
     axes[0, 0].legend(handles=handles, frameon=False, fontsize=7)
     named = f"{shape_label(family, opening=False)}: " if family is not None else ""
