@@ -354,7 +354,7 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
 def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_report_says_so():
     """The ASP at 172.5° and ε = 1e-3 b: the exact lens is 1 − sin(Ψ/2) = 2.14e-3 b deep, less than ε + the
     default rim (a quarter of the body's depth, 1.6e-3 b), and lies in the body's undecided rim: the count is 1,
-    and the report states the depth below which such a component is not sought. With rim = ε the lens is found,
+    and the report states the depth below which such a component may be missed. With rim = ε the lens is found,
     as deep as the exact one within a floor cell."""
     asp = SeSP(n=2, opening=math.radians(172.5))
     lens = 1 - math.sin(math.radians(172.5) / 2)
@@ -363,3 +363,12 @@ def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_rep
     assert f"a component less than {coarse.resolution + coarse.rim:.1e} b deep" in str(coarse)
     fine = certified_components(asp, resolution=1e-3, rim=1e-3)
     assert fine.count == 2 and lens - 1e-4 < fine.components[1].depth <= lens * (1 + 1e-9)
+
+
+def test_a_lens_deeper_than_the_stated_rim_beside_the_body_is_counted():
+    """The stated rim is the coarsest searched: every component deeper than ε + rim is found. The ASP at 165°,
+    ε = 1e-3 b: the exact lens, 1 − sin(82.5°) = 8.6e-3 b deep, is deeper than ε + rim and is counted."""
+    found = certified_components(SeSP(n=2, opening=math.radians(165)), resolution=1e-3)
+    lens = 1 - math.sin(math.radians(82.5))
+    assert lens > found.resolution + found.rim
+    assert found.count == 2 and found.components[1].depth <= lens * (1 + 1e-9)

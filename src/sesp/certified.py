@@ -52,7 +52,12 @@ Resolution of the search. The rims of candidates are searched for hidden
 components down to ``rim`` (b; default 100 ε, at most half a base cell's
 half-diagonal) or a quarter of the candidate's certified depth, whichever is
 smaller: a component shallower than ε + that length lying inside the
-undecided rim of another is not found (stated in :attr:`Certified.rim`).
+undecided rim of another may be missed. :attr:`Certified.rim` is the
+coarsest such length: every component deeper than ε + rim is found. So a
+decided count lies between the number of components of E_ε deeper than
+ε + rim and the number of all of them; where a component lies between the
+two (n = 10 at Ψ = 169.2°: an axis strip 7.4e-4 b deep beside the body, at
+ε = 1e-5 b), whether it is counted depends on the cells.
 Why a second length: beside a part, a sliver of E_ε parted from it by an
 allowed finger needs only about 3ε across (ε, finger, ε, sliver, ε), so it
 fits inside one cell and between the points at which certificates are made;
@@ -170,8 +175,9 @@ class CertifiedComponent:
 class Certified:
     """The count of excluded components at resolution ``resolution`` (b), as a bracket ``low`` ≤ count ≤ ``high``.
 
-    ``rim`` (b): the length to which rims beside other components were
-    resolved. ``floor`` (b): the smallest cell side. ``components``: one
+    ``rim`` (b): the coarsest length to which rims beside other components
+    were searched: every component deeper than ``resolution + rim`` is
+    counted, a shallower one may be missed. ``floor`` (b): the smallest cell side. ``components``: one
     :class:`CertifiedComponent` per candidate, deepest first."""
 
     low: int
@@ -216,7 +222,7 @@ class Certified:
     def searched(self) -> str:
         """What the rim search leaves out, in words (the search's own length, beside ε)."""
         return (f"  (rims searched to {self.rim:.1e} b: a component less than {self.resolution + self.rim:.1e} b deep "
-                "inside another's undecided rim is not sought; rim= in Python searches finer)")  # fmt: skip
+                "inside another's undecided rim may be missed; rim= in Python searches finer)")  # fmt: skip
 
     def __str__(self):
         lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}", self.searched]
@@ -276,7 +282,7 @@ class _Engine:
         # a part is a seed of its own where its certified disk reaches the rim length: every part holding a base
         # cell must be one, so the rim is at most half a base cell's half-diagonal
         self.rim = max(resolution, min(rim, self.half * math.sqrt(2.0) / base / 2))
-        self.rim_used = self.rim  # b: the smallest rim any component was resolved to (a quarter of its depth)
+        self.rim_used = self.rim  # b: the coarsest rim a candidate with a part was searched to
         v1, v2 = pair.vertices1, pair.vertices2
         self.spans2 = radial_spans(v2)
         self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
@@ -446,7 +452,7 @@ class _Engine:
         empty = und & ~has_part[np.maximum(U, 0)]
         depth = self._depths(L, status, U)
         rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
-        self.rim_used = float(rim[inn].min()) if inn.any() else self.rim
+        self.rim_used = float(rim[inn].max()) if inn.any() else self.rim
         on_rim = und & (hi >= self.eps + rim)
         on_rim[on_rim] = ~self._searched(L, inn, on_rim, rim[on_rim])
         above_floor = L.h * math.sqrt(2.0) > self.floor
