@@ -177,8 +177,9 @@ class Certified:
 
     ``rim`` (b): the coarsest length to which rims beside other components
     were searched: every component deeper than ``resolution + rim`` is
-    counted, a shallower one may be missed. ``floor`` (b): the smallest cell side. ``components``: one
-    :class:`CertifiedComponent` per candidate, deepest first."""
+    counted, a shallower one may be missed. ``floor`` (b): the smallest cell
+    side. ``components``: one :class:`CertifiedComponent` per candidate,
+    deepest first."""
 
     low: int
     high: int
