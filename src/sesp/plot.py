@@ -647,7 +647,7 @@ def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
     for top, bottom in axes.T:
         top.step(deg, low, where="post", color="C0", lw=1.2)
         top.vlines(deg[undecided], low[undecided], np.minimum(high, ceiling)[undecided], color="C3", lw=2)
-        top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5, clip_on=False)
+        top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5)
         top.set_ylim(-0.3, ceiling + 0.3)
         for t in found.changes:
             top.axvspan(math.degrees(t.low), math.degrees(t.high), color="C1", alpha=0.3, lw=0)
