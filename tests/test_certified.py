@@ -12,6 +12,7 @@ from sesp.cli import main
 from sesp.kernels import depth as depth_kernels
 from sesp.orientations import allowed_orientations
 from sesp.pair import as_pair
+from sesp.topology import transitions
 
 import naive
 
@@ -63,6 +64,8 @@ def test_resolution_rim_and_base_are_checked():
         certified_components(_asp(90), resolution=1e-3, rim=1e-4)
     with pytest.raises(ValueError, match="base"):
         certified_components(_asp(90), base=2)
+    with pytest.raises(ValueError, match="rim"):  # before any opening is counted
+        transitions(SeSP(n=2), resolution=1e-3, rim=1e-4, workers=1)
 
 
 def test_counts_unchanged_when_both_frames_turn_together():
@@ -351,11 +354,12 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
     np.testing.assert_array_equal(got, want)
 
 
-def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_report_says_so():
+@pytest.mark.slow
+def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_report_says_so(capsys):
     """The ASP at 172.5° and ε = 1e-3 b: the exact lens is 1 − sin(Ψ/2) = 2.14e-3 b deep, less than ε + the
     default rim (a quarter of the body's depth, 1.6e-3 b), and lies in the body's undecided rim: the count is 1,
-    and the report states the depth below which such a component may be missed. With rim = ε the lens is found,
-    as deep as the exact one within a floor cell."""
+    and the report states the depth below which such a component may be missed. With rim = ε (``--rim`` on the
+    command line) the lens is found, as deep as the exact one within a floor cell."""
     asp = SeSP(n=2, opening=math.radians(172.5))
     lens = 1 - math.sin(math.radians(172.5) / 2)
     coarse = certified_components(asp, resolution=1e-3)
@@ -363,6 +367,12 @@ def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_rep
     assert f"a component less than {coarse.resolution + coarse.rim:.1e} b deep" in str(coarse)
     fine = certified_components(asp, resolution=1e-3, rim=1e-3)
     assert fine.count == 2 and lens - 1e-4 < fine.components[1].depth <= lens * (1 + 1e-9)
+    assert "--rim or rim= searches finer" in str(coarse)
+    # the same on the command line
+    assert main(["-q", "topology", "--n", "2", "--opening", "172.5", "--resolution", "1e-3", "--rim", "1e-3",
+                 "--json"]) == 0  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert (out["count"], out["rim"]) == (2, 1e-3)
 
 
 def test_a_lens_deeper_than_the_stated_rim_beside_the_body_is_counted():

@@ -109,7 +109,7 @@ def test_every_option_has_help_text():
 @pytest.mark.parametrize(
     "option, value",
     [("--width", "nan"), ("--width", "1e-300"), ("--step", "inf"), ("--width", "100"), ("--resolution", "-1"),
-     ("--base", "2"), ("--opening-range", "10 5")],
+     ("--base", "2"), ("--opening-range", "10 5"), ("--rim", "1e-6"), ("--rim", "nan")],
 )  # fmt: skip
 def test_topology_options_are_checked_in_their_units(option, value, capsys):
     assert main(["topology", option, *value.split()]) == 2

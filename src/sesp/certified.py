@@ -223,7 +223,7 @@ class Certified:
     def searched(self) -> str:
         """What the rim search leaves out, in words (the search's own length, beside ε)."""
         return (f"  (rims searched to {self.rim:.1e} b: a component less than {self.resolution + self.rim:.1e} b deep "
-                "inside another's undecided rim may be missed; rim= in Python searches finer)")  # fmt: skip
+                "inside another's undecided rim may be missed; --rim or rim= searches finer)")  # fmt: skip
 
     def __str__(self):
         lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}", self.searched]
@@ -236,10 +236,15 @@ class Certified:
         return "\n".join(lines)
 
 
-def check_resolution(resolution) -> None:
-    """Raise ValueError unless ``resolution`` is a finite length > 0 (b)."""
+def check_resolution(resolution, rim=None, base=BASE) -> None:
+    """Raise ValueError unless ``resolution`` is a finite length > 0 (b), ``rim`` None or a finite length
+    ≥ ``resolution`` (b), and ``base`` a whole number of cells in [4, 4096]."""
     if not (isinstance(resolution, int | float | np.floating) and resolution > 0 and math.isfinite(resolution)):
         raise ValueError(f"resolution must be a length > 0 (b), got {resolution!r}")
+    if rim is not None and not (rim >= resolution and math.isfinite(rim)):
+        raise ValueError(f"rim must be a length >= resolution ({resolution:g} b), got {rim!r}")
+    if not (isinstance(base, int | np.integer) and 4 <= base <= 4096):
+        raise ValueError(f"base must be a whole number of cells in [4, 4096], got {base!r}")
 
 
 def certified_components(
@@ -255,7 +260,9 @@ def certified_components(
     """The excluded components of a pair at resolution ``resolution`` (b), certified on both sides, exact in φ.
 
     ``particle``/``other`` as for :func:`sesp.scan` (a Pair is taken as is);
-    ``segments`` per polyline. See the module text for the definition.
+    ``segments`` per polyline; ``rim`` (b; default 100 ``resolution``): how
+    finely the rims of components are searched for hidden ones; ``base``:
+    cells along each side at first. See the module text for the definition.
 
     Examples
     --------
@@ -265,12 +272,8 @@ def certified_components(
     >>> found.count
     0
     """
-    check_resolution(resolution)
+    check_resolution(resolution, rim, base)
     rim = RIM_RATIO * resolution if rim is None else rim
-    if not (rim >= resolution and math.isfinite(rim)):
-        raise ValueError(f"rim must be a length >= resolution ({resolution:g} b), got {rim!r}")
-    if not (isinstance(base, int | np.integer) and 4 <= base <= 4096):
-        raise ValueError(f"base must be a whole number of cells in [4, 4096], got {base!r}")
     pair = as_pair(particle, other, segments=segments)
     return _Engine(pair, resolution, rim, int(base)).run(progress)
 

@@ -233,6 +233,8 @@ def _add_topology(sub):
         metavar="EPS",
         help="count the components of the excluded set eroded by EPS, b (default 1e-5)",
     )
+    p.add_argument("--rim", type=float, default=None, metavar="B", help="search the rims of components for "
+                   "hidden ones this finely, b (default 100 EPS; finer costs more)")  # fmt: skip
     p.add_argument("--base", type=int, default=None, help="cells along each side at first (default 64)")
     p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees, "
                    "16 widths (default 4.8)")  # fmt: skip
@@ -269,6 +271,8 @@ def _cmd_topology(args) -> int:
         raise ValueError(f"--resolution must be a length in [1e-9, 1] b, got {args.resolution}")
     if not 4 <= args.base <= 4096:
         raise ValueError(f"--base must be an integer in [4, 4096] (cells), got {args.base}")
+    if args.rim is not None and not (math.isfinite(args.rim) and args.resolution <= args.rim <= 1.0):
+        raise ValueError(f"--rim must be a length in [--resolution, 1] b ({args.resolution:g} .. 1), got {args.rim}")
     _check_figure_path(args.plot)
     if args.opening is not None:
         return _topology_at_opening(args)
@@ -287,7 +291,7 @@ def _cmd_topology(args) -> int:
     _announce_compile()
     found = transitions(
         family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
-        base=args.base, segments=args.segments, progress=not args.quiet,
+        rim=args.rim, base=args.base, segments=args.segments, progress=not args.quiet,
         on_change=None if args.quiet else _print_change, workers=args.workers,
     )  # fmt: skip
     found.label = f"n = {family.n:g}, m = {family.m:g}, aspect {family.aspect:g}, {args.segments} segments"
@@ -316,8 +320,9 @@ def _topology_at_opening(args) -> int:
     particle = _shape_from_args(args, args.opening)
     _announce_compile()
     found = certified_components(
-        particle, resolution=args.resolution, base=args.base, segments=args.segments, progress=not args.quiet
-    )
+        particle, resolution=args.resolution, rim=args.rim, base=args.base, segments=args.segments,
+        progress=not args.quiet,
+    )  # fmt: skip
     if args.json:
         print(json.dumps({"n": particle.n, "m": particle.m, "aspect": particle.aspect, "opening_deg": args.opening,
                           "segments": args.segments, "base": args.base, **found.to_dict()}))  # fmt: skip

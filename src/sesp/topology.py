@@ -39,7 +39,7 @@ import numba
 import numpy as np
 import xarray as xr
 
-from .certified import BASE, RESOLUTION, Certified, certified_components
+from .certified import BASE, RESOLUTION, Certified, certified_components, check_resolution
 from .dataset import cell_area
 from .kernels import cells as cell_kernels
 from .pair import Pair
@@ -251,6 +251,7 @@ def transitions(
     step: float = STEP,
     width: float = WIDTH,
     resolution: float = RESOLUTION,
+    rim: float | None = None,
     base: int = BASE,
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
@@ -269,7 +270,7 @@ def transitions(
         rad: openings first counted at most this far apart (the range is cut into equal steps).
     width : float
         rad: every change is bisected until its bracket is at most this wide.
-    resolution, base, segments
+    resolution, rim, base, segments
         As for :func:`sesp.certified_components`.
     on_change : callable, optional
         Called with each :class:`Transition` as soon as it is bracketed: a long search shows, or keeps, what
@@ -296,12 +297,13 @@ def transitions(
     """
     if not (step > 0 and width > 0 and math.isfinite(step) and math.isfinite(width)):
         raise ValueError(f"step and width must be angles > 0 (rad), got {step!r}, {width!r}")
+    check_resolution(resolution, rim, base)
     workers = (os.cpu_count() or 1) if workers is None else workers
     if not (isinstance(workers, int | np.integer) and workers >= 1):
         raise ValueError(f"workers must be a whole number of processes >= 1, got {workers!r}")
     grid = _openings(openings, step)
     start = time.perf_counter()
-    counter = _Counter(opening_family(family), (resolution, base, segments), int(workers))
+    counter = _Counter(opening_family(family), (resolution, rim, base, segments), int(workers))
     try:
         cache, changes = _search(counter, grid, width, progress, on_change)
     except BaseException:  # Ctrl-C, or a failed count: stop the workers now
@@ -362,9 +364,9 @@ def _search(counter, grid, width, progress, on_change):
     return cache, changes
 
 
-def _count(particle, resolution, base, segments) -> Certified:
+def _count(particle, resolution, rim, base, segments) -> Certified:
     """One opening's certified count (in a worker process where there are several)."""
-    return certified_components(particle, resolution=resolution, base=base, segments=segments)
+    return certified_components(particle, resolution=resolution, rim=rim, base=base, segments=segments)
 
 
 class _Counter:
