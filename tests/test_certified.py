@@ -64,7 +64,7 @@ def test_resolution_rim_and_base_are_checked():
         certified_components(_asp(90), resolution=1e-3, rim=1e-4)
     with pytest.raises(ValueError, match="base"):
         certified_components(_asp(90), base=2)
-    with pytest.raises(ValueError, match="rim"):  # before any opening is counted
+    with pytest.raises(ValueError, match="rim"):  # over Ψ too
         transitions(SeSP(n=2), resolution=1e-3, rim=1e-4, workers=1)
 
 
