@@ -619,17 +619,17 @@ class _Engine:
         depth = self._depths(L, status, U)
         for root, k in self.best.items():
             depth[root] = self._deepest(L, k, depth[root])
-        roots = np.unique(U[U >= 0])
+        member = np.nonzero(U >= 0)[0]
+        member = member[np.argsort(U[member], kind="stable")]  # the leaves of each candidate, one run per root
+        roots, first = np.unique(U[member], return_index=True)
+        departure = self.pair.departure  # b; measured on the dense arc table: once, not per component
         found = []
-        for r in roots:
-            m = U == r
-            parts = len(np.unique(seed[m & (seed >= 0)]))
-            inn = m & (status == IN)
+        for r, m in zip(roots, np.split(member, first[1:])):
+            parts = len(np.unique(seed[m][seed[m] >= 0]))
+            inn = m[status[m] == IN]
             box = (float(L.x[m].min()), float(L.x[m].max()), float(L.y[m].min()), float(L.y[m].max()))
             found.append(
-                CertifiedComponent(
-                    parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, self.pair.departure
-                )
+                CertifiedComponent(parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, departure)
             )
         order = np.argsort([-c.depth for c in found], kind="stable")
         rank = np.full(len(L.x), -1)
