@@ -42,8 +42,9 @@ then bounds the depth of every point of the cell below ε, and the narrow
 allowed wedge of a pinch on x = 0 runs along cell edges, between centres.
 The centres of split cells stay known allowed points. A centre that is not
 allowed at its first orientation is proved excluded by the depth certificate
-(at a depth of 1e-9 b) where it can be, which costs a fraction of the exact
-windows; the windows decide the rest.
+(at a depth of 1e-9 b) where it can be within a few intervals of φ
+(:data:`~sesp.kernels.depth.FALLBACK_STEPS`), which costs a fraction of the
+exact windows; the windows decide the rest, with the same answer.
 
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).

@@ -70,6 +70,10 @@ MAX_CROSSINGS = 1024  # crossings of the two stored polylines at one φ at most;
 # walk: it nears an orientation where their half-planes stop covering the disk, in ever shorter steps (cost only)
 LEAST_TIP_STEP = 1e-6
 LONG_CROSSINGS = 16  # a run is lengthened to its whole curve only where the curves cross at most this often (cost only)
+# intervals of φ a walk may take at its ``fallback`` depth before it gives up (returns 0); the caller then decides
+# the position by its exact windows, which give the same answer (cost only: where the curves run within a hair
+# of each other, the ASP near a closed circle, a walk at 1e-9 b takes hundreds of intervals, the windows fewer)
+FALLBACK_STEPS = 64
 
 
 @njit(**JIT)
@@ -672,7 +676,7 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     roots = np.empty(16)
     phi = start
     first, first_behind = True, 0.0
-    proved = 1
+    proved, at_fallback = 1, 0
     for _ in range(max_steps):
         got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         for _ in range(2):  # beside a degenerate touch the parity is defined
@@ -703,6 +707,10 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
             first, first_behind = False, behind
         if phi + ahead >= start + TWO_PI - first_behind:
             return proved
+        if proved == 2:
+            at_fallback += 1
+            if at_fallback > FALLBACK_STEPS:
+                return 0
         phi += ahead + 1e-12  # the interval is closed: its end is certified
     return -1 if proved == 1 else 0  # out of steps at ``fallback``: nothing proved
 
