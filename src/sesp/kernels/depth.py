@@ -659,8 +659,9 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
     asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
-    that deep: the certificate is one-sided); −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
-    fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
+    that deep: the certificate is one-sided), or if the walk at ``fallback`` took more than FALLBACK_STEPS
+    intervals; −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r`` fails it goes on at
+    ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
     tried at a φ where no widest pair of ``plain`` is r apart. At each φ the pair that certifies the longest interval
     is taken (:func:`_longest`). The walk begins at φ = ``start`` (radians): where the position is least deep
