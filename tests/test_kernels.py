@@ -6,6 +6,7 @@ import shapely
 
 from sesp import Grid, Pair, SeSP
 from sesp.field import resolve_grid
+from sesp.kernels.orientations import chunk_boxes, chunk_count, clearance_at
 from sesp.kernels.overlap import crossings_at_states, in_pair_set, pair_meets, raster_slices, raster_slices_serial
 
 import naive
@@ -44,6 +45,23 @@ def test_overlap_matches_shapely_intersects(i):
     line1 = shapely.LineString(c1.vertices)
     ref = [line1.intersects(shapely.LineString(naive.transform(c2.vertices, *s))) for s in zip(x, y, phi)]
     np.testing.assert_array_equal(fast, ref)
+
+
+@pytest.mark.parametrize("i", range(len(SHAPES)))
+def test_clearance_is_shapely_distance_capped(i):
+    """The clearance (the pruned search for the nearest pair of segments) is the distance between the curves,
+    capped, on states near contact, crossing and far apart: 0 where they meet, the cap where farther."""
+    rng = np.random.default_rng(200 + i)
+    c1, c2 = SHAPES[i], SHAPES[(i + 1) % len(SHAPES)]
+    x, y, phi = _random_states(rng, c1.max_radius + c2.max_radius, 300)
+    line1 = shapely.LineString(c1.vertices)
+    ref = np.array([line1.distance(shapely.LineString(naive.transform(c2.vertices, *s))) for s in zip(x, y, phi)])
+    caps = rng.choice([0.05, 0.3, 10.0], len(x))
+    got = np.empty(len(x))
+    boxes1 = chunk_boxes(c1.vertices, np.empty((chunk_count(c1.vertices), 4)))
+    clearance_at(c1.vertices, boxes1, c2.vertices, x, y, phi, caps, got)
+    np.testing.assert_allclose(got, np.minimum(ref, caps), rtol=1e-12, atol=1e-12)
+    assert (got == 0).any() and (got == caps).any() and ((got > 0) & (got < caps)).any()  # each kind exercised
 
 
 def test_pair_predicate_closed_and_degenerate():

@@ -726,10 +726,11 @@ def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, out):
 
 def _stored(v):
     """A closed polyline (last vertex = first) stored twice over, so that runs may pass its first vertex, with
-    its number of segments; an open one as it is, with 0."""
+    its number of segments; an open one as it is, with 0. Always a new, writable array: a read-only one (a
+    Pair's) would make numba compile every kernel a second time, for that type."""
     if len(v) > 3 and np.array_equal(v[0], v[-1]):
         return np.ascontiguousarray(np.concatenate([v, v[1:]])), len(v) - 1
-    return np.ascontiguousarray(v), 0
+    return np.array(v, dtype=float, order="C"), 0
 
 
 def _halved(v):

@@ -366,13 +366,23 @@ def boxes_distance2(a, b):
 
 
 @njit(**JIT)
+def _gap2(ax0, ax1, ay0, ay1, bx0, bx1, by0, by1):
+    """Squared distance between the boxes [ax0, ax1] × [ay0, ay1] and [bx0, bx1] × [by0, by1]."""
+    dx = max(0.0, ax0 - bx1, bx0 - ax1)
+    dy = max(0.0, ay0 - by1, by0 - ay1)
+    return dx * dx + dy * dy
+
+
+@njit(**JIT)
 def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
     """min(cap, distance between curve 1 and curve 2 turned by φ and moved to t), b.
 
     ``boxes1``: :func:`chunk_boxes` of curve 1; ``moved``, ``boxes2``: scratch
-    for curve 2's vertices at (t, φ) and their boxes. Only the segments of
-    runs whose boxes are nearer than the nearest distance found so far are
-    measured: the others cannot be nearer; where two segments meet it stops.
+    for curve 2's vertices at (t, φ) and their boxes. A pair of segments is
+    measured only where the boxes of their runs, the box of each against the
+    other's run and their own boxes are all nearer than the nearest distance
+    found so far (the others cannot be nearer, so the minimum is the same);
+    where two segments meet it stops.
     """
     c = math.cos(phi)
     s = math.sin(phi)
@@ -383,13 +393,19 @@ def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
     best2 = cap * cap
     for a in range(boxes1.shape[0]):
         for b in range(boxes2.shape[0]):
-            if boxes_distance2(boxes1[a], boxes2[b]) > best2:
+            box = boxes2[b]
+            if boxes_distance2(boxes1[a], box) > best2:
                 continue
             for i in range(a * CHUNK, min((a + 1) * CHUNK, v1.shape[0] - 1)):
                 px, py, qx, qy = v1[i, 0], v1[i, 1], v1[i + 1, 0], v1[i + 1, 1]
+                x0, x1, y0, y1 = min(px, qx), max(px, qx), min(py, qy), max(py, qy)
+                if _gap2(x0, x1, y0, y1, box[0], box[1], box[2], box[3]) > best2:
+                    continue
                 for j in range(b * CHUNK, min((b + 1) * CHUNK, v2.shape[0] - 1)):
-                    d2 = _segments_distance2(px, py, qx, qy, moved[j, 0], moved[j, 1], moved[j + 1, 0], moved[j + 1, 1])
-                    best2 = min(best2, d2)
+                    ax, ay, bx, by = moved[j, 0], moved[j, 1], moved[j + 1, 0], moved[j + 1, 1]
+                    if _gap2(x0, x1, y0, y1, min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)) > best2:
+                        continue
+                    best2 = min(best2, _segments_distance2(px, py, qx, qy, ax, ay, bx, by))
                 if best2 == 0.0:  # the curves meet: nothing is nearer
                     return 0.0
     return math.sqrt(best2)
