@@ -359,18 +359,17 @@ def chunk_count(v):
 
 
 @njit(**JIT)
-def boxes_distance2(a, b):
-    dx = max(0.0, a[0] - b[1], b[0] - a[1])
-    dy = max(0.0, a[2] - b[3], b[2] - a[3])
-    return dx * dx + dy * dy
-
-
-@njit(**JIT)
 def _gap2(ax0, ax1, ay0, ay1, bx0, bx1, by0, by1):
     """Squared distance between the boxes [ax0, ax1] × [ay0, ay1] and [bx0, bx1] × [by0, by1]."""
     dx = max(0.0, ax0 - bx1, bx0 - ax1)
     dy = max(0.0, ay0 - by1, by0 - ay1)
     return dx * dx + dy * dy
+
+
+@njit(**JIT)
+def boxes_distance2(a, b):
+    """Squared distance between two boxes (xmin, xmax, ymin, ymax), as :func:`chunk_boxes` writes them."""
+    return _gap2(a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3])
 
 
 @njit(**JIT)
