@@ -74,7 +74,6 @@ from concurrent.futures import as_completed
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-import numba
 import numpy as np
 import xarray as xr
 
@@ -588,9 +587,8 @@ def _point_in_worker(point: SweepPoint, folder: str) -> str | None:
         os._exit(130)
 
 
-def _init_worker(threads: int, runner: int):
+def _init_worker(runner: int):
     signal.signal(signal.SIGINT, _interrupted)
-    numba.set_num_threads(max(1, threads))
     threading.Thread(target=_stop_when_orphaned, args=(runner,), daemon=True, name="sesp-orphan-watch").start()
 
 
@@ -623,8 +621,7 @@ def _execute_local(todo, folder, workers, bar):
             bar.update()
         return
     workers = min(workers, len(todo))
-    threads = max(1, (os.cpu_count() or 1) // workers)
-    pool = start_pool(workers, _init_worker, (threads, os.getpid()))
+    pool = start_pool(workers, _init_worker, (os.getpid(),))
     try:
         for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in todo]):
             future.result()

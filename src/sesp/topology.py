@@ -35,7 +35,6 @@ import time
 from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import xarray as xr
 
@@ -370,8 +369,8 @@ def _count(particle, resolution, rim, base, segments) -> Certified:
 
 
 class _Counter:
-    """Counts openings: in this process, or in ``workers`` worker processes (each with an equal share of this
-    process's numba threads; the counts do not depend on it), each as soon as one is free. The costliest
+    """Counts openings: in this process, or in ``workers`` worker processes (:func:`~sesp.workers.start_pool`;
+    the counts do not depend on them), each as soon as one is free. The costliest
     opening asked for goes first (``cost``: the seconds its bracket's ends took), so the chain of bisections
     that takes longest starts first. A worker with nothing asked of it counts ahead what ``guess`` says may be
     asked next (the next middles of a bracket being bisected); a count ahead that is never asked for is
@@ -383,8 +382,7 @@ class _Counter:
         self.asked = itertools.count()
         self.ahead, self.spare, self.ready = set(), {}, []  # counting ahead; counted ahead; asked, counted ahead
         self.guess = None
-        threads = max(1, numba.get_num_threads() // workers)
-        self.pool = None if workers == 1 else start_pool(workers, numba.set_num_threads, (threads,))
+        self.pool = None if workers == 1 else start_pool(workers)
 
     def ask(self, opening, cost=0.0):
         if opening in self.spare:

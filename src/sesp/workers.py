@@ -8,13 +8,29 @@ import signal
 import time
 from concurrent.futures import ProcessPoolExecutor
 
+import numba
+
 __all__ = ["start_pool", "stop_pool"]
 
 
-def start_pool(workers: int, initializer, initargs=()) -> ProcessPoolExecutor:
-    """``workers`` processes, each set up by ``initializer(*initargs)`` (which should set its numba threads)."""
+def start_pool(workers: int, initializer=None, initargs=()) -> ProcessPoolExecutor:
+    """``workers`` processes, each with all of this process's numba threads, set up by
+    ``initializer(*initargs)``.
+
+    Each worker's threads wait without spinning (OpenMP's passive wait, unless ``OMP_WAIT_POLICY`` says
+    otherwise): while several workers run, the system shares the cores among them at little cost, and a worker
+    left alone (the last point of a sweep, the end of a bisection chain) uses every core. Each result is
+    written by one thread per item, so it does not depend on the thread count."""
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    return ProcessPoolExecutor(workers, mp_context=ctx, initializer=initializer, initargs=initargs)
+    setup = (numba.get_num_threads(), initializer, initargs)
+    return ProcessPoolExecutor(workers, mp_context=ctx, initializer=_setup, initargs=setup)
+
+
+def _setup(threads, initializer, initargs):
+    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")  # read once, when numba starts its threads: first
+    numba.set_num_threads(threads)
+    if initializer is not None:
+        initializer(*initargs)
 
 
 def stop_pool(pool, grace: float = 3.0, interrupt: bool = True):
