@@ -127,23 +127,22 @@ def test_counts_in_worker_processes_are_those_counted_here():
 
 def test_workers_have_every_thread_and_wait_passively(threads, monkeypatch):
     """Each worker process gets all of this process's numba threads (one left alone uses every core), and its
-    OpenMP threads wait without spinning unless the user's environment says otherwise."""
-    monkeypatch.delenv("OMP_WAIT_POLICY", raising=False)
-    threads(1)
-    pool = start_pool(2)
-    try:
-        assert pool.submit(numba.get_num_threads).result() == 1
-        assert pool.submit(os.getenv, "OMP_WAIT_POLICY").result() == "PASSIVE"
-    finally:
-        pool.shutdown()
-    threads(numba.config.NUMBA_NUM_THREADS)
-    monkeypatch.setenv("OMP_WAIT_POLICY", "ACTIVE")
-    pool = start_pool(1)
-    try:
-        assert pool.submit(numba.get_num_threads).result() == numba.config.NUMBA_NUM_THREADS
-        assert pool.submit(os.getenv, "OMP_WAIT_POLICY").result() == "ACTIVE"
-    finally:
-        pool.shutdown()
+    OpenMP threads wait without spinning unless the user's environment says otherwise; both can be asked."""
+    every = numba.config.NUMBA_NUM_THREADS
+    cases = [(1, None, {}, 1, "PASSIVE"), (every, "ACTIVE", {}, every, "ACTIVE"),
+             (every, None, dict(threads=1, passive=False), 1, None)]  # fmt: skip
+    for here, policy, asked, there, waits in cases:
+        threads(here)
+        if policy is None:
+            monkeypatch.delenv("OMP_WAIT_POLICY", raising=False)
+        else:
+            monkeypatch.setenv("OMP_WAIT_POLICY", policy)
+        pool = start_pool(1, **asked)
+        try:
+            assert pool.submit(numba.get_num_threads).result() == there
+            assert pool.submit(os.getenv, "OMP_WAIT_POLICY").result() == waits
+        finally:
+            pool.shutdown()
 
 
 def test_the_range_and_family_are_checked():

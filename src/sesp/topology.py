@@ -370,11 +370,10 @@ def _count(particle, resolution, rim, base, segments) -> Certified:
 
 class _Counter:
     """Counts openings: in this process, or in ``workers`` worker processes (:func:`~sesp.workers.start_pool`;
-    the counts do not depend on them), each as soon as one is free. The costliest
-    opening asked for goes first (``cost``: the seconds its bracket's ends took), so the chain of bisections
-    that takes longest starts first. A worker with nothing asked of it counts ahead what ``guess`` says may be
-    asked next (the next middles of a bracket being bisected); a count ahead that is never asked for is
-    dropped, so the result is the same."""
+    the counts do not depend on them), each as soon as one is free. The costliest opening asked for goes first
+    (``cost``: the seconds its bracket's ends took), so the chain of bisections that takes longest starts first.
+    A worker with nothing asked of it counts ahead what ``guess`` says may be asked next (the next middles of a
+    bracket being bisected); a count ahead that is never asked for is dropped, so the result is the same."""
 
     def __init__(self, make, settings, workers):
         self.make, self.settings, self.workers = make, settings, workers

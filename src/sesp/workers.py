@@ -13,21 +13,23 @@ import numba
 __all__ = ["start_pool", "stop_pool"]
 
 
-def start_pool(workers: int, initializer=None, initargs=()) -> ProcessPoolExecutor:
-    """``workers`` processes, each with all of this process's numba threads, set up by
+def start_pool(workers: int, initializer=None, initargs=(), *, threads=None, passive=True) -> ProcessPoolExecutor:
+    """``workers`` processes, each with ``threads`` numba threads (default all of this process's), set up by
     ``initializer(*initargs)``.
 
-    Each worker's threads wait without spinning (OpenMP's passive wait, unless ``OMP_WAIT_POLICY`` says
-    otherwise): while several workers run, the system shares the cores among them at little cost, and a worker
-    left alone (the last point of a sweep, the end of a bisection chain) uses every core. Each result is
-    written by one thread per item, so it does not depend on the thread count."""
+    With ``passive``, each worker's threads wait without spinning (OpenMP's passive wait, unless
+    ``OMP_WAIT_POLICY`` says otherwise): while several workers run, the system shares the cores among them at
+    little cost, and a worker left alone (the last point of a sweep, the end of a bisection chain) uses every
+    core (``benchmarks/worker_threads.py``). Each result is written by one thread per item, so it does not
+    depend on the thread count."""
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    setup = (numba.get_num_threads(), initializer, initargs)
+    setup = (numba.get_num_threads() if threads is None else threads, passive, initializer, initargs)
     return ProcessPoolExecutor(workers, mp_context=ctx, initializer=_setup, initargs=setup)
 
 
-def _setup(threads, initializer, initargs):
-    os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")  # read once, when numba starts its threads: first
+def _setup(threads, passive, initializer, initargs):
+    if passive:  # OpenMP reads it once, when numba starts its threads (in set_num_threads): so before that
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     numba.set_num_threads(threads)
     if initializer is not None:
         initializer(*initargs)
