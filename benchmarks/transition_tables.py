@@ -86,7 +86,10 @@ def _run(n, base, workers, args):
     table(rows, ["n", "base", "workers", "bracket (deg)", "count", "certain", "what"])
     said = ", ".join(f"{math.degrees(t.low):.3f}-{math.degrees(t.high):.3f}: {t.before.count} -> {t.after.count}"
                      for t in found.certain_changes())  # fmt: skip
-    print(f"certain changes (between decided counts): {said or 'none'}\n", flush=True)
+    print(f"certain changes (between decided counts): {said or 'none'}", flush=True)
+    costly = sorted(found.counts.items(), key=lambda item: -item[1].seconds)[:6]
+    said = ", ".join(f"{math.degrees(o):.2f}° {f.seconds:.0f} s" for o, f in costly)
+    print(f"costliest counts (seconds each): {said}\n", flush=True)
     return found, seconds
 
 
