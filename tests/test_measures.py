@@ -299,6 +299,39 @@ def test_excluded_area_refines_only_what_is_left_free_and_says_when_it_falls_sho
         excluded_area(asp, rtol=0)
 
 
+@pytest.mark.parametrize(
+    "particle, other, rtol",
+    [
+        (SeSP(n=8, opening=math.radians(30)), None, 3e-5),  # nphi doubled twice: 128, 256, 512
+        (SeSP(n=4, opening=math.radians(100)), SeSP(n=2), 1e-5),  # segments doubled: 256 to 512
+    ],
+)
+def test_excluded_area_refinement_measures_each_orientation_once_and_changes_nothing(
+    monkeypatch, particle, other, rtol
+):
+    """Each refinement step measures only what is new (the odd orientations where nphi doubled, the new polygon
+    where the segments did), and the result is bit for bit that of one evaluation at the settings reached."""
+    from sesp.kernels import scanline
+
+    measured, table = [], scanline.scanline_table
+
+    def counted(v1, v2, angle1, *rest):  # (vertices of the polygon, orientations measured)
+        measured.append((len(v1), len(angle1)))
+        return table(v1, v2, angle1, *rest)
+
+    monkeypatch.setattr(scanline, "scanline_table", counted)
+    ds = excluded_area(particle, other, rtol=rtol)
+    settings = {k: ds.attrs[k] for k in ("segments", "nphi", "rows")}
+    polygons = {settings["segments"] // m + 1 for m in (1, 2, 4)} | {256 // m + 1 for m in (1, 2, 4)}
+    stop = settings["nphi"] // 2 + 1  # both pairs are mirror-symmetric
+    assert sorted({v for v, _ in measured}) == sorted(polygons)
+    for vertices in polygons:  # every orientation of every polygon measured once
+        assert sum(k for v, k in measured if v == vertices) == stop
+    fresh = smooth_excluded_area(particle, other=other, **settings)
+    for name in ("excluded_area", "excluded_area_error", "mean_excluded_area", "mean_excluded_area_error"):
+        assert np.array_equal(ds[name].values, fresh[name].values)
+
+
 def test_excluded_area_of_polylines_is_of_the_polylines_as_given():
     needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
     ds = excluded_area(needle)  # A_ex(φ) = 4 |sin φ| for needles of length 2: mean 8/π

@@ -244,19 +244,48 @@ def scanline_excluded_area(
         averages of R, plus the φ-quadrature error (half the difference between the averages over even
         and odd k).
     """
+    return _scanline_dataset(as_pair(particle, other, segments), *_checked_lines(nphi, rows), {})
+
+
+def _checked_lines(nphi, rows) -> tuple[int, int]:
+    """``nphi`` and ``rows`` as whole numbers, or ValueError: nphi ≥ 1, rows ≥ 8 and a multiple of 8."""
     nphi = check_count("nphi", nphi, 1, 1 << 20)
     rows = check_count("rows", rows, 8, 1 << 20)
     if rows % 8:
         raise ValueError(f"rows must be a multiple of 8 (coarser levels drop every other line), got {rows}")
-    pair = as_pair(particle, other, segments)
-    phi = 2 * np.pi * np.arange(nphi) / nphi
+    return nphi, rows
+
+
+def _trapezoids(pair: Pair, nphi: int, rows: int, memo: dict) -> np.ndarray:
+    """(4, stop): the trapezoidal rule on the line lengths at spacings h, 2h, 4h and 8h, per orientation
+    φ_k = 2πk/nphi, k < stop (half the turn and one for a mirror-symmetric pair), b².
+
+    ``memo`` holds those of earlier calls for the same particles, by (segments, nphi, rows): each orientation's
+    lines are measured on their own, so a call at twice an earlier nphi measures only the odd k (the even ones
+    are the earlier φ, bit for bit), and a repeated call measures nothing."""
+    key = (pair.segments, nphi, rows)
+    if key in memo:
+        return memo[key]
     stop = nphi // 2 + 1 if pair.mirror_symmetric else nphi
-    theta = scan_directions(phi[:stop])
+    phi = 2 * np.pi * np.arange(stop) / nphi
+    half = memo.get((pair.segments, nphi // 2, rows)) if nphi % 2 == 0 else None
+    new = np.arange(stop) if half is None else np.arange(1, stop, 2)
+    theta = scan_directions(phi[new])
     lengths, _, h = scanline.scanline_table(
-        pair.vertices1, pair.vertices2, -theta, phi[:stop] - theta, pair.contact, rows
+        pair.vertices1, pair.vertices2, -theta, phi[new] - theta, pair.contact, rows
     )
-    # trapezoids at spacings h, 2h, 4h, 8h (the end lines have length 0, or nearly, within contact)
-    trapezoid = [lengths[:, ::m].sum(axis=1) * m * h for m in (1, 2, 4, 8)]
+    # the end lines have length 0, or nearly, within contact
+    sums = np.empty((4, stop))
+    sums[:, new] = [lengths[:, ::m].sum(axis=1) * m * h for m in (1, 2, 4, 8)]
+    if half is not None:
+        sums[:, 0::2] = half
+    memo[key] = sums
+    return sums
+
+
+def _scanline_dataset(pair: Pair, nphi: int, rows: int, memo: dict) -> xr.Dataset:
+    """:func:`scanline_excluded_area` of ``pair``, its trapezoids kept in (and taken from) ``memo``."""
+    trapezoid = _trapezoids(pair, nphi, rows, memo)
     q = 2.0**SCANLINE_ORDER
     extrapolated = [(q * fine - coarse) / (q - 1) for fine, coarse in zip(trapezoid, trapezoid[1:], strict=False)]
     levels = [_unmirrored(values, nphi) for values in extrapolated]  # every φ, for the means
@@ -267,6 +296,7 @@ def scanline_excluded_area(
     attrs = {**base_attrs("sesp.summary"), **pair_attrs(pair), "nphi": nphi, "rows": rows}
     attrs["sesp_format"] = "sesp.scanline_excluded_area"
     attrs.update(mean_error_lines=mean_error, mean_error_phi=_phi_quadrature_error(area))
+    phi = 2 * np.pi * np.arange(nphi) / nphi
     return _area_dataset(phi, area, error, mean_error + attrs["mean_error_phi"], attrs)
 
 
@@ -314,9 +344,13 @@ def smooth_excluded_area(
         raise ValueError("smooth_excluded_area needs SeSPs: a Polyline is its own shape, there is nothing to refine")
     if segments % 4 or segments < 16:
         raise ValueError(f"segments must be a multiple of 4 and at least 16, got {segments}")
-    levels = [
-        scanline_excluded_area(particle, other=other, segments=segments // m, nphi=nphi, rows=rows) for m in (1, 2, 4)
-    ]
+    return _smooth_dataset(particle, other, segments, *_checked_lines(nphi, rows), {})
+
+
+def _smooth_dataset(particle, other, segments: int, nphi: int, rows: int, memo: dict) -> xr.Dataset:
+    """:func:`smooth_excluded_area` of the SeSPs, the trapezoids of each polygon kept in (and taken from)
+    ``memo``: a refinement that doubles the segments measures only the new, finest polygon."""
+    levels = [_scanline_dataset(as_pair(particle, other, segments // m), nphi, rows, memo) for m in (1, 2, 4)]
     areas = [ds.excluded_area.values for ds in levels]
     fine, coarse = ((4 * a - b) / 3 for a, b in zip(areas, areas[1:], strict=False))
     error = levels[0].excluded_area_error.values + np.abs(fine - coarse)
@@ -340,15 +374,16 @@ def _smooth_possible(pair: Pair, segments: int) -> bool:
     return sesps and segments % 4 == 0 and segments >= 16
 
 
-def _measured(pair: Pair, segments: int, nphi: int, rows: int | None) -> xr.Dataset:
-    """One evaluation of the best estimate: the smooth curves' A_ex(φ) where possible, else the polygons'."""
+def _measured(pair: Pair, segments: int, nphi: int, rows: int | None, memo: dict) -> xr.Dataset:
+    """One evaluation of the best estimate: the smooth curves' A_ex(φ) where possible, else the polygons';
+    ``memo``: the trapezoids of the refinement's earlier evaluations (:func:`_trapezoids`)."""
     if _smooth_possible(pair, segments):
         other = None if pair.other is pair.particle else pair.other
         rows = SMOOTH_ROWS if rows is None else rows
-        ds = smooth_excluded_area(pair.particle, other=other, segments=segments, nphi=nphi, rows=rows)
+        ds = _smooth_dataset(pair.particle, other, segments, *_checked_lines(nphi, rows), memo)
         ds.attrs["excluded_area_of"] = "smooth curves"
         return ds
-    ds = scanline_excluded_area(pair, nphi=nphi, rows=SCANLINE_ROWS if rows is None else rows)
+    ds = _scanline_dataset(pair, *_checked_lines(nphi, SCANLINE_ROWS if rows is None else rows), memo)
     sesps = [isinstance(p, SeSP) for p in (pair.particle, pair.other)]
     polygons = f"polygons of {pair.segments} segments"
     of = polygons if all(sesps) else "polylines as given" + (f", the SeSP as {polygons}" if any(sesps) else "")
@@ -384,7 +419,9 @@ def excluded_area(
     otherwise (:func:`scanline_excluded_area`). The settings left unset are refined, each step doubling
     the one whose part of the error budget is largest (``rows`` for the lines, ``nphi`` for the mean over
     φ, ``segments`` for the polygon), until the error bar of ⟨A_ex⟩ is at most ``rtol`` · ⟨A_ex⟩; settings
-    that are given stay as given. Where that cannot be reached (a given setting's part dominates, or the
+    that are given stay as given. A step measures only what is new (the odd orientations where nphi doubles,
+    the finest polygon where the segments do): the result is bit for bit that of one evaluation at the
+    settings reached. Where that cannot be reached (a given setting's part dominates, or the
     largest settings are reached) the result says so (attribute ``converged`` 0) and a warning tells how
     far it got. The integral of a stored field is the field's own measure,
     :func:`lattice_excluded_area`.
@@ -435,9 +472,10 @@ def excluded_area(
     if isinstance(particle, Pair):
         free.discard("segments")
         settings["segments"] = particle.segments
+    memo = {}  # the trapezoids of every evaluation: each refinement step measures only what is new
     while True:
         pair = as_pair(particle, other, settings["segments"])
-        ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"])
+        ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"], memo)
         settings["rows"] = int(ds.attrs["rows"])
         mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
         if progress:
