@@ -1,9 +1,7 @@
 """The search over Ψ on the certified count, and the plain components of a stored field."""
 
 import math
-import os
 
-import numba
 import numpy as np
 import pytest
 
@@ -12,7 +10,6 @@ from sesp.certified import Certified
 from sesp.progress import _NoProgress
 from sesp.regions import summarize
 from sesp.topology import _labelled, lattice_components, opening_family, transitions
-from sesp.workers import start_pool
 
 COARSE = dict(resolution=1e-2, segments=128)  # b: the certified engine in about half a second per opening
 
@@ -123,26 +120,6 @@ def test_counts_in_worker_processes_are_those_counted_here():
     assert len(here.counts) == 4 and [(t.low, t.high) for t in here.changes] == [(t.low, t.high) for t in there.changes]
     for o, f in here.counts.items():
         assert all(np.array_equal(f.cells[k], there.counts[o].cells[k]) for k in f.cells)
-
-
-def test_workers_have_every_thread_and_wait_passively(threads, monkeypatch):
-    """Each worker process gets all of this process's numba threads (one left alone uses every core), and its
-    OpenMP threads wait without spinning unless the user's environment says otherwise; both can be asked."""
-    every = numba.config.NUMBA_NUM_THREADS
-    cases = [(1, None, {}, 1, "PASSIVE"), (every, "ACTIVE", {}, every, "ACTIVE"),
-             (every, None, dict(threads=1, passive=False), 1, None)]  # fmt: skip
-    for here, policy, asked, there, waits in cases:
-        threads(here)
-        if policy is None:
-            monkeypatch.delenv("OMP_WAIT_POLICY", raising=False)
-        else:
-            monkeypatch.setenv("OMP_WAIT_POLICY", policy)
-        pool = start_pool(1, **asked)
-        try:
-            assert pool.submit(numba.get_num_threads).result() == there
-            assert pool.submit(os.getenv, "OMP_WAIT_POLICY").result() == waits
-        finally:
-            pool.shutdown()
 
 
 def test_the_range_and_family_are_checked():
