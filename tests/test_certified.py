@@ -340,6 +340,39 @@ def test_lens_and_body_part_at_a_pinch_whose_allowed_wedge_runs_between_cell_cen
     assert (found.low, found.high) == (2, 2)
 
 
+@pytest.mark.parametrize(("n", "degrees"), [(8, 5), (4, 144), (10, 0.3)])
+def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, degrees):
+    """Corners tried between parts are decided as centres are: allowed where the curves keep apart at a hint
+    orientation, excluded where the depth certificate proves it, the exact windows deciding the rest. Whatever
+    the hint (that of the nearest other allowed point, a random one, none), every position the windows allow is
+    allowed, and every other one allowed has no crossing at its hint orientation, by brute force. At the apex
+    of the pinch's allowed wedge (n = 10 at 0.3°, on x = 0) the curves keep apart by about 1e-11 b there,
+    within the windows' slack (1e-9 b), so that only the hint finds these points allowed."""
+    from scipy.spatial import cKDTree
+
+    from sesp.certified import _Engine
+
+    pair = as_pair(SeSP(n=n, opening=math.radians(degrees)), segments=256)
+    engine = _Engine(pair, 1e-5, 1e-3, 64)
+    rng = np.random.default_rng(n)
+    x = np.concatenate([rng.uniform(-1, 1, 300) * pair.reach, rng.normal(0, 2e-3, 300), np.zeros(300)])
+    y = np.concatenate([rng.uniform(-1, 1, 300) * pair.reach, rng.normal(0, 2e-3, 300), rng.normal(0, 3e-4, 300)])
+    exact, middle = engine._windows(x, y)
+    assert 0 < exact.sum() < len(x)  # both answers occur
+    allowed = np.nonzero(exact)[0]
+    _, k = cKDTree(np.column_stack([x[allowed], y[allowed]])).query(np.column_stack([x, y]), k=2)
+    nearest = middle[allowed[k[:, 1]]]
+    for hint in (nearest, rng.uniform(0, 2 * math.pi, len(x)), np.full(len(x), np.nan)):
+        got = engine._allowed(x, y, hint)
+        assert got[exact].all()
+        extra = np.nonzero(got & ~exact)[0]
+        for q in extra:
+            moved = naive.transform(pair.vertices2, x[q], y[q], hint[q])
+            assert not naive.segment_pairs_meet(pair.vertices1, moved).any()
+        if hint is nearest and n == 10:
+            assert len(extra) and np.all(x[extra] == 0.0)  # the apex of the wedge, on x = 0
+
+
 @pytest.mark.parametrize("trial", range(40))
 def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
     """The corridor kernel (one search from all seeds, then searches only as far as each path is long) marks
