@@ -274,7 +274,7 @@ def _trapezoids(pair: Pair, nphi: int, rows: int, memo: dict) -> np.ndarray:
     lengths, _, h = scanline.scanline_table(
         pair.vertices1, pair.vertices2, -theta, phi[new] - theta, pair.contact, rows
     )
-    # the end lines have length 0, or nearly, within contact
+    # trapezoids at spacings h, 2h, 4h, 8h (the end lines have length 0, or nearly, within contact)
     sums = np.empty((4, stop))
     sums[:, new] = [lengths[:, ::m].sum(axis=1) * m * h for m in (1, 2, 4, 8)]
     if half is not None:
