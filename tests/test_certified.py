@@ -347,7 +347,7 @@ def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, 
     the hint (that of the nearest other allowed point, a random one, none), every position the windows allow is
     allowed, and every other one allowed has no crossing at its hint orientation, by brute force. At the apex
     of the pinch's allowed wedge (n = 10 at 0.3°, on x = 0) the curves keep apart by about 1e-11 b there,
-    within the windows' slack (1e-9 b), so that only the hint finds these points allowed."""
+    in windows narrower than ANGLE_GAP (1e-9 rad), which the windows close: only the hint finds them."""
     from scipy.spatial import cKDTree
 
     from sesp.certified import _Engine

@@ -45,8 +45,9 @@ tried) that is not allowed at its first orientation is proved excluded by the
 depth certificate (at a depth of 1e-9 b) where it can be within a few
 intervals of φ (:data:`~sesp.kernels.depth.FALLBACK_STEPS`), which costs a
 fraction of the exact windows; the windows decide the rest, with the same
-answer. (The first orientation also finds allowed points within the windows'
-slack of 1e-9 b: the apex of a pinch's allowed wedge.)
+answer. (The first orientation also finds allowed points whose windows are
+narrower than the windows' ANGLE_GAP, 1e-9 rad: the apex of a pinch's allowed
+wedge.)
 
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
@@ -495,8 +496,9 @@ class _Engine:
         ``hint`` (radians; NaN for none), excluded where the depth certificate proves it (at ``PROOF_DEPTH``,
         within FALLBACK_STEPS intervals from the hint), the exact windows deciding the rest. Every position the
         windows allow is allowed; a hint also finds the apex of a pinch's allowed wedge, where the curves keep
-        apart by about 1e-11 b, within the windows' slack (1e-9 b). The first two cost a fraction of the
-        windows (at the pinch of n = 10 at Ψ = 1.2°, 7 of 16,663 corners were left to them)."""
+        apart by about 1e-11 b in windows narrower than ANGLE_GAP (1e-9 rad), which the windows close. The first
+        two cost a fraction of the windows (at the pinch of n = 10 at Ψ = 1.2°, 7 of 16,663 corners were left
+        to them)."""
         ok, rest = np.zeros(len(x), bool), np.ones(len(x), bool)
         tried = np.nonzero(~np.isnan(hint))[0]
         if len(tried):
