@@ -47,9 +47,9 @@ keep = ["topology"]
 def _pools(every, passive):
     """``start_pool`` with every thread or an equal share per worker, waiting passively or as OpenMP does."""
 
-    def pool(workers, initializer=None, initargs=()):
+    def pool(workers, initializer=None, initargs=(), on_orphan=None):
         threads = None if every else max(1, numba.get_num_threads() // workers)
-        return start_pool(workers, initializer, initargs, threads=threads, passive=passive)
+        return start_pool(workers, initializer, initargs, threads=threads, passive=passive, on_orphan=on_orphan)
 
     return pool
 

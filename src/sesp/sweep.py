@@ -505,7 +505,7 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
             stale.unlink(missing_ok=True)
         if not _finished(path):
             result = compute_point(point)
-            with _SAVING:  # the orphan watch waits for a write under way (see _stop_when_orphaned)
+            with _SAVING:  # the orphan watch waits for a write under way (see _leave_orphaned)
                 save(result, path)
         # safe to remove now: whoever locks a stale copy of it finds the point finished
         _lock_path(folder, point).unlink(missing_ok=True)
@@ -587,16 +587,13 @@ def _point_in_worker(point: SweepPoint, folder: str) -> str | None:
         os._exit(130)
 
 
-def _init_worker(runner: int):
+def _init_worker():
     signal.signal(signal.SIGINT, _interrupted)
-    threading.Thread(target=_stop_when_orphaned, args=(runner,), daemon=True, name="sesp-orphan-watch").start()
 
 
-def _stop_when_orphaned(runner: int, poll: float = 0.25, grace: float = 5.0):
-    """In a worker: once the runner process is gone (killed by SIGKILL, say), stop as on Ctrl-C, which removes
-    the file being written and releases its lock, then exit. A worker never outlives its runner."""
-    while os.getppid() == runner:
-        time.sleep(poll)
+def _leave_orphaned(grace: float = 5.0):
+    """In a worker whose runner is gone (killed by SIGKILL, say; :func:`~sesp.workers.start_pool` watches):
+    stop as on Ctrl-C, which removes the file being written and releases its lock, then exit."""
     os.kill(os.getpid(), signal.SIGINT)
     time.sleep(grace)  # a kernel call finishes its slice before the interrupt is seen
     # Still not stopped. A write under way ends first (complete, or removed by the interrupt): netCDF, in C,
@@ -621,7 +618,7 @@ def _execute_local(todo, folder, workers, bar):
             bar.update()
         return
     workers = min(workers, len(todo))
-    pool = start_pool(workers, _init_worker, (os.getpid(),))
+    pool = start_pool(workers, _init_worker, on_orphan=_leave_orphaned)
     try:
         for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in todo]):
             future.result()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -13,9 +14,12 @@ import numba
 __all__ = ["start_pool", "stop_pool"]
 
 
-def start_pool(workers: int, initializer=None, initargs=(), *, threads=None, passive=True) -> ProcessPoolExecutor:
+def start_pool(
+    workers: int, initializer=None, initargs=(), *, threads=None, passive=True, on_orphan=None
+) -> ProcessPoolExecutor:
     """``workers`` processes, each with ``threads`` numba threads (default all of this process's), set up by
-    ``initializer(*initargs)``.
+    ``initializer(*initargs)``. A worker never outlives this process: once it is gone (killed by SIGTERM or
+    SIGKILL, say), each worker calls ``on_orphan()`` (a module-level function: its own cleanup) and exits.
 
     With ``passive``, each worker's threads wait without spinning (OpenMP's passive wait, unless
     ``OMP_WAIT_POLICY`` says otherwise): while several workers run, the system shares the cores among them at
@@ -23,16 +27,28 @@ def start_pool(workers: int, initializer=None, initargs=(), *, threads=None, pas
     core (``benchmarks/worker_threads.py``). Each result is written by one thread per item, so it does not
     depend on the thread count."""
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
-    setup = (numba.get_num_threads() if threads is None else threads, passive, initializer, initargs)
+    threads = numba.get_num_threads() if threads is None else threads
+    setup = (threads, passive, os.getpid(), on_orphan, initializer, initargs)
     return ProcessPoolExecutor(workers, mp_context=ctx, initializer=_setup, initargs=setup)
 
 
-def _setup(threads, passive, initializer, initargs):
+def _setup(threads, passive, runner, on_orphan, initializer, initargs):
     if passive:  # OpenMP reads it once, when numba starts its threads (in set_num_threads): so before that
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     numba.set_num_threads(threads)
+    watch = threading.Thread(target=_stop_when_orphaned, args=(runner, on_orphan), daemon=True)
+    watch.start()
     if initializer is not None:
         initializer(*initargs)
+
+
+def _stop_when_orphaned(runner: int, on_orphan, poll: float = 0.25):
+    """In a worker: once the runner process is gone, call ``on_orphan`` and exit."""
+    while os.getppid() == runner:
+        time.sleep(poll)
+    if on_orphan is not None:
+        on_orphan()
+    os._exit(1)
 
 
 def stop_pool(pool, grace: float = 3.0, interrupt: bool = True):
