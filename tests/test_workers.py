@@ -33,7 +33,7 @@ def test_workers_have_every_thread_and_wait_passively(threads, monkeypatch):
 
 
 RUNNER = """
-import os, sys, time
+import os, time
 from sesp.workers import start_pool
 
 if __name__ == "__main__":

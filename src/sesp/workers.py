@@ -36,10 +36,12 @@ def _setup(threads, passive, runner, on_orphan, initializer, initargs):
     if passive:  # OpenMP reads it once, when numba starts its threads (in set_num_threads): so before that
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     numba.set_num_threads(threads)
-    watch = threading.Thread(target=_stop_when_orphaned, args=(runner, on_orphan), daemon=True)
-    watch.start()
-    if initializer is not None:
+    if initializer is not None:  # first: the watch's cleanup may rely on it (the sweep's SIGINT handler)
         initializer(*initargs)
+    watch = threading.Thread(
+        target=_stop_when_orphaned, args=(runner, on_orphan), daemon=True, name="sesp-orphan-watch"
+    )
+    watch.start()
 
 
 def _stop_when_orphaned(runner: int, on_orphan, poll: float = 0.25):
