@@ -427,3 +427,11 @@ def test_a_lens_deeper_than_the_stated_rim_beside_the_body_is_counted():
     lens = 1 - math.sin(math.radians(82.5))
     assert lens > found.resolution + found.rim
     assert found.count == 2 and found.components[1].depth <= lens * (1 + 1e-9)
+
+
+def test_the_rim_of_a_shallow_component_is_searched_no_finer_than_the_resolution():
+    """A candidate's rim is a quarter of its certified depth, but never finer than ε. The ASP at 176° with
+    ε = 1e-3 b: one component, less than 4ε deep (a quarter of it is below ε); the rim stated is ε."""
+    found = certified_components(_asp(176), resolution=1e-3, segments=128)
+    assert found.count == 1 and found.components[0].depth < 4 * found.resolution
+    assert found.rim == found.resolution

@@ -55,7 +55,9 @@ sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
 Resolution of the search. The rims of candidates are searched for hidden
 components down to ``rim`` (b; default 100 ε, at most half a base cell's
 half-diagonal) or a quarter of the candidate's certified depth, whichever is
-smaller: a component shallower than ε + that length lying inside the
+smaller, but never finer than ε (the resolution the count states; finer, the
+rims of the last shallow components near Ψ = π were searched at cells of the
+floor): a component shallower than ε + that length lying inside the
 undecided rim of another may be missed. :attr:`Certified.rim` is the
 coarsest such length: every component deeper than ε + rim is found. So a
 decided count lies between the number of components of E_ε deeper than
@@ -459,7 +461,7 @@ class _Engine:
         between = und & cell_kernels.corridors(seed, und | inn, *near, 2)
         empty = und & ~has_part[np.maximum(U, 0)]
         depth = self._depths(L, status, U)
-        rim = np.minimum(self.rim, depth[np.maximum(U, 0)] / 4)  # a quarter of the component's depth, at most rim
+        rim = np.clip(depth[np.maximum(U, 0)] / 4, self.eps, self.rim)  # a quarter of its depth, in [ε, rim]
         self.rim_used = float(rim[inn].max()) if inn.any() else self.rim
         on_rim = und & (hi >= self.eps + rim)
         on_rim[on_rim] = ~self._searched(L, inn, on_rim, rim[on_rim])
