@@ -116,12 +116,12 @@ def test_depth_certificate_falls_back_to_a_smaller_depth_where_the_first_fails()
 
 
 def test_a_long_walk_at_the_fallback_gives_up_and_the_exact_windows_say_the_same():
-    """The ASP at 4.8° (the arcs almost a closed circle): at (-1.828, 0.797) b the walk fails at 0.022 b and
+    """The ASP at 4.8° (the arcs almost a closed circle): at (-1.813, -0.828) b the walk fails at 0.022 b and
     needs more than FALLBACK_STEPS intervals at 1e-9 b, so it gives up (0), though a walk begun at 1e-9 b
     proves the position excluded (1); the exact windows, which then decide it, find no allowed orientation."""
     pair = as_pair(_asp(4.8), segments=256)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
-    x, y = np.array([-1.828125]), np.array([0.796875])
+    x, y = np.array([-1.8125]), np.array([-0.828125])
     assert depth_kernels.certified_deep(curves, x, y, np.array([0.022107]), 1024, fallback=1e-9).tolist() == [0]
     assert depth_kernels.certified_deep(curves, x, y, np.array([1e-9]), 4096, tips=False).tolist() == [1]
     assert allowed_orientations(pair, x, y).tolist() == [0.0]

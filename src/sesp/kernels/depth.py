@@ -47,7 +47,11 @@ curves run close about a crossing (a shallow lens), pairs short on both sides
 keep apart only while a vertex of each lies in the lens, one interval per
 vertex passing it; the same pair with one run lengthened to its whole curve
 holds until the turning curve sweeps over an end of the short run, and the
-longer interval is taken (:func:`_longest`). Where no pair keeps apart, two
+longer interval is taken (:func:`_longest`). Deep in the excluded set the
+same holds where the widest pair keeps apart: it stops each time an end
+point passes the other curve, a lengthened pair often holds nearly all the
+way round; from its second interval on, a walk tries the lengthened pair
+too, until once it gives no longer interval. Where no pair keeps apart, two
 end points of the open curves may (:func:`two_tips`). The position is certified
 r deep when the intervals close around the circle. The bound is one-sided: a
 position whose certificate fails may still be that deep (for instance where
@@ -609,18 +613,20 @@ def _runs_at(curves, tx, ty, phi, w, boxes2, cross):
 
 
 @njit(**JIT)
-def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first, lengthen=True):
-    """(ahead, behind, found): the longest interval of φ about ``phi`` (behind only where ``first``) certified by
-    the widest pair of ``got`` (:func:`_runs_at`; curve 2 in ``w``, crossings in ``cross``) where its ends are
-    ``r`` apart, or by that pair with one run lengthened to the whole of its curve (a closed curve's longest
+def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first, lengthen=1):
+    """(ahead, behind, found, longer): the longest interval of φ about ``phi`` (behind only where ``first``)
+    certified by the widest pair of ``got`` (:func:`_runs_at`; curve 2 in ``w``, crossings in ``cross``) where its
+    ends are ``r`` apart, or by that pair with one run lengthened to the whole of its curve (a closed curve's longest
     run), where they cross oddly with their ends r apart; ``found`` False where none is. The ends of a whole
     curve lie far from the crossing, so a lengthened pair stays certified until the turning curve sweeps over
     an end of the short run: where the curves run close about a crossing (a shallow lens), pairs short on both
     sides keep apart only while a vertex of each lies in the lens, one interval per vertex passing it. Tried
-    (if ``lengthen``) where the curves cross at most LONG_CROSSINGS times and the widest pair is not r apart,
-    or, for a closed curve 2, gives an interval shorter than a vertex takes to pass (2π / its segments). For
-    open curves a short interval there is mostly set by something else (an end point passing): trying there
-    cost more than it saved (cost only)."""
+    (``lengthen`` 1) where the curves cross at most LONG_CROSSINGS times and the widest pair is not r apart,
+    or, for a closed curve 2, gives an interval shorter than a vertex takes to pass (2π / its segments);
+    ``lengthen`` 2 tries it also where the widest pair of open curves is r apart, 0 never. ``longer``: the
+    lengthened pair gave the interval. Deep in the excluded set a lengthened pair often holds nearly all
+    the way round, where the widest pair stops each time an end point passes the other curve (cost only: the
+    walk decides when to ask, :func:`cover`)."""
     v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = curves
     count, i0, i1, j0, j1, margin = got
     behind0 = TWO_PI if first else 0.0
@@ -631,9 +637,10 @@ def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, 
         )
     n1, n2 = v1.shape[0] - 1, v2.shape[0] - 1
     if not lengthen or margin < 0.0 or count > LONG_CROSSINGS:
-        return ahead, behind, found
-    if found and (not p2 or ahead + behind >= TWO_PI / p2):
-        return ahead, behind, found
+        return ahead, behind, found, False
+    if found and lengthen < 2 and (not p2 or ahead + behind >= TWO_PI / p2):
+        return ahead, behind, found, False
+    longer = False
     no_table = np.zeros((1, 1), np.uint8)
     for side in (1, 2):  # about the run's middle: a closed curve's crossing, its longest run in the stored range
         a0, a1, b0, b1 = i0, i1, j0, j1
@@ -650,8 +657,8 @@ def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, 
             -1, ahead + behind if found else -1.0,
         )  # fmt: skip
         if not found or a + b > ahead + behind:
-            ahead, behind, found = a, b, True
-    return ahead, behind, found
+            ahead, behind, found, longer = a, b, True, True
+    return ahead, behind, found, longer
 
 
 @njit(**JIT)
@@ -664,9 +671,11 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
     ``plain``, ``halved``: :func:`prepared`; the runs of ``halved`` may end at the middle of a segment, and are
     tried at a φ where no widest pair of ``plain`` is r apart. At each φ the pair that certifies the longest interval
-    is taken (:func:`_longest`). The walk begins at φ = ``start`` (radians): where the position is least deep
-    there (an orientation allowed nearby), a walk that fails fails at once. ``tips``: where no pair of runs is
-    r apart, try two end points of the open curves (:func:`two_tips`)."""
+    is taken (:func:`_longest`); from the second interval on also lengthened where the widest pair is r apart,
+    until once that gives no longer interval (at ε + h in the rims of the ASP at Ψ = 45°: a median of 4
+    intervals instead of 24; a try that fails costs a shallow walk). The walk begins at φ = ``start``
+    (radians): where the position is least deep there (an orientation allowed nearby), a walk that fails fails
+    at once. ``tips``: where no pair of runs is r apart, try two end points of the open curves (:func:`two_tips`)."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
@@ -678,6 +687,7 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     phi = start
     first, first_behind = True, 0.0
     proved, at_fallback = 1, 0
+    lengthen = False  # also lengthen a pair that is r apart: from the second interval on, while it pays
     for _ in range(max_steps):
         got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         for _ in range(2):  # beside a degenerate touch the parity is defined
@@ -687,12 +697,16 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
             got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         if got[0] < 0 or got[0] > MAX_CROSSINGS:
             return 0
-        ahead, behind, found = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
+        ahead, behind, found, longer = _longest(
+            plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first, 2 if lengthen else 1
+        )
+        if lengthen and got[5] >= r and not longer:
+            lengthen = False
         if got[5] < r:  # no widest pair: runs that may end at the middle of a segment
             finer = _runs_at(halved, tx, ty, phi, wh, boxes2h, cross_h)
             if 0 <= finer[0] <= MAX_CROSSINGS:
-                a, b, f = _longest(
-                    halved, near1h, far1h, wh, boxes2h, cross_h, finer, tx, ty, r, phi, roots, first, False
+                a, b, f, _ = _longest(
+                    halved, near1h, far1h, wh, boxes2h, cross_h, finer, tx, ty, r, phi, roots, first, 0
                 )
                 if f and (not found or a + b > ahead + behind):
                     ahead, behind, found = a, b, True
@@ -701,11 +715,12 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
             found = ahead > 0.0
         if not found and proved == 1 and fallback > 0.0:  # go on at ``fallback`` from this φ
             r, proved = fallback, 2
-            ahead, behind, found = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
+            ahead, behind, found, _ = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
         if not found:
             return 0
         if first:
             first, first_behind = False, behind
+            lengthen = True
         if phi + ahead >= start + TWO_PI - first_behind:
             return proved
         if proved == 2:
