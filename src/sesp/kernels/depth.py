@@ -662,7 +662,7 @@ def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, 
 
 
 @njit(**JIT)
-def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
+def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips, lengthen_apart=True):
     """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
     asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
@@ -675,7 +675,8 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
     until once that gives no longer interval (at ε + h in the rims of the ASP at Ψ = 45°: a median of 4
     intervals instead of 24; a try that fails costs a shallow walk). The walk begins at φ = ``start``
     (radians): where the position is least deep there (an orientation allowed nearby), a walk that fails fails
-    at once. ``tips``: where no pair of runs is r apart, try two end points of the open curves (:func:`two_tips`)."""
+    at once. ``tips``: where no pair of runs is r apart, try two end points of the open curves (:func:`two_tips`).
+    ``lengthen_apart``: False never lengthens a pair that is r apart (for comparison: ``benchmarks/depth_walk.py``)."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
@@ -720,7 +721,7 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
             return 0
         if first:
             first, first_behind = False, behind
-            lengthen = True
+            lengthen = lengthen_apart
         if phi + ahead >= start + TWO_PI - first_behind:
             return proved
         if proved == 2:
@@ -732,11 +733,11 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips):
 
 
 @njit(**JIT, parallel=True)
-def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, out):
+def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, lengthen, out):
     """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
     intervals, its walk begun at φ = ``starts[p]``. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], tips)
+        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], tips, lengthen)
 
 
 def _stored(v):
@@ -769,10 +770,11 @@ def prepared(v1, v2):
     return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, tips=True):
+def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, tips=True, lengthen=True):
     """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
     with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast), trying two end
-    points where one pair of runs falls short if ``tips``; ``prepared_curves``: :func:`prepared`."""
+    points where one pair of runs falls short if ``tips``, lengthening pairs that are r apart if ``lengthen``
+    (:func:`cover`); ``prepared_curves``: :func:`prepared`."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
     rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
@@ -780,5 +782,5 @@ def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
     with small_chunks():
-        cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), out)
+        cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), bool(lengthen), out)
     return out
