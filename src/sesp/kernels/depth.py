@@ -47,10 +47,10 @@ curves run close about a crossing (a shallow lens), pairs short on both sides
 keep apart only while a vertex of each lies in the lens, one interval per
 vertex passing it; the same pair with one run lengthened to its whole curve
 holds until the turning curve sweeps over an end of the short run, and the
-longer interval is taken (:func:`_longest`). Deep in the excluded set the
-same holds where the widest pair keeps apart: it stops each time an end
-point passes the other curve, a lengthened pair often holds nearly all the
-way round; from its second interval on, a walk tries the lengthened pair
+longer interval is taken (:func:`_longest`). Deep in the excluded set a
+widest pair that keeps apart still stops each time an end point passes the
+other curve, while the lengthened pair often holds nearly all the way
+round: from its second interval on, a walk tries the lengthened pair there
 too, until once it gives no longer interval. Where no pair keeps apart, two
 end points of the open curves may (:func:`two_tips`). The position is certified
 r deep when the intervals close around the circle. The bound is one-sided: a
