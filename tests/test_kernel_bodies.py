@@ -84,7 +84,6 @@ def test_certified_engine_kernel_bodies(monkeypatch):
         (sesp.kernels.cells, "adjacency"): sesp.kernels.cells.adjacency,
         (sesp.kernels.cells, "disk_components"): sesp.kernels.cells.disk_components,
         (sesp.kernels.cells, "corridors"): sesp.kernels.cells.corridors,
-        (sesp.kernels.cells, "graded"): sesp.kernels.cells.graded,
     }
     calls = {key: _recorded(monkeypatch, *key) for key in kernels}
     certified_components(SeSP(n=2, opening=math.radians(150)), resolution=1e-2, base=8, segments=32)

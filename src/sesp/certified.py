@@ -466,8 +466,7 @@ class _Engine:
         on_rim = und & (hi >= self.eps + rim)
         on_rim[on_rim] = ~self._searched(L, inn, on_rim, rim[on_rim])
         above_floor = L.h * math.sqrt(2.0) > self.floor
-        # graded 2:1 where parts may join (so what fine cells certify meets what coarse ones did), not on rims
-        split = cell_kernels.graded((between | empty) & above_floor, und, L.level, ea, eb) | (on_rim & above_floor)
+        split = (between | empty | on_rim) & above_floor
         retry = und & L.ran_out & (L.steps < self.most_steps)
         return split & ~retry, retry, between, seed, U
 

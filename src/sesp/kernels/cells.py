@@ -234,19 +234,3 @@ def corridors(seed, passable, start, neighbour, slack):
         for i in range(m_t):
             from_t[touched_t[i]] = -1
     return out
-
-
-@njit(**JIT)
-def graded(split, undecided, level, ea, eb):
-    """``split`` grown until no undecided leaf next to a split one is two or more levels larger than its
-    children will be (a 2:1 graded tree, so that what is certified on fine leaves meets what was certified on
-    coarse ones)."""
-    changed = True
-    while changed:
-        changed = False
-        for e in range(ea.shape[0]):
-            a, b = ea[e], eb[e]
-            if split[a] and not split[b] and undecided[b] and level[b] < level[a]:
-                split[b] = True
-                changed = True
-    return split
