@@ -82,6 +82,23 @@ def test_counts_unchanged_when_both_frames_turn_together():
     assert [c.depth for c in plain] == pytest.approx([c.depth for c in rotated], abs=2e-3)
 
 
+def test_a_mirror_symmetric_pair_is_decided_above_the_axis_and_counts_as_its_polylines_do():
+    """A SeSP pair is symmetric about the x axis ((t, φ) overlaps where (Mt, −φ) does): each leaf below the axis
+    is decided as its mirror image, so the cells are mirror images of each other, status and all; the same
+    polylines given as Polylines (no symmetry assumed) are counted alike. Odd base: a row of cells on the axis."""
+    for base in (16, 15):
+        pair = as_pair(_asp(60), segments=64)
+        mirrored = certified_components(pair, resolution=1e-3, base=base)
+        plain = certified_components(
+            Polyline(pair.vertices1), Polyline(pair.vertices2), resolution=1e-3, base=base, segments=64
+        )
+        assert (mirrored.low, mirrored.high) == (plain.low, plain.high) == (2, 2)
+        cells = mirrored.cells
+        above = {(x, y, s, k) for x, y, s, k in zip(cells["x"], cells["y"], cells["side"], cells["status"])}
+        below = {(x, -y, s, k) for x, y, s, k in zip(cells["x"], cells["y"], cells["side"], cells["status"])}
+        assert above == below
+
+
 def test_depth_certificate_is_a_lower_bound_on_the_asps_lens_depth():
     """Along the axis through the lens the best certified depth never exceeds the exact inscribed radius
     1 − sin(Ψ/2) (beyond the polyline's departure from the circle, under 1e-4 b at 256 segments) and comes

@@ -52,6 +52,13 @@ wedge.)
 Closed curves (Ψ = 0) have no end points: the depth certificate lets their
 sub-arcs pass the polyline's first vertex (:mod:`sesp.kernels.depth`).
 
+Symmetry. A SeSP is symmetric about the x axis, and so is its polyline,
+exactly: (t, φ) overlaps where (Mt, −φ) does (M: y → −y), so the depth and
+the allowed set are symmetric too. For a pair of SeSPs each leaf below the
+axis is decided as its mirror image above it (the centres are exact images;
+orientations turn to −φ), which halves the certificates made. A Polyline is
+not assumed symmetric.
+
 Resolution of the search. The rims of candidates are searched for hidden
 components down to ``rim`` (b; default 100 ε, at most half a base cell's
 half-diagonal) or a quarter of the candidate's certified depth, whichever is
@@ -108,6 +115,15 @@ SUBCELLS = 4  # a rim leaf is shown searched on this many squares per side, each
 NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf (cost only)
 PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
+
+
+def _first_per_group(groups, most):
+    """Indices (ascending) of the first ``most`` entries of each value in ``groups``."""
+    by = np.argsort(groups, kind="stable")
+    g = groups[by]
+    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])  # where each group begins, in ``by``
+    rank = np.arange(len(g)) - np.repeat(start, np.diff(np.r_[start, len(g)]))
+    return np.sort(by[rank < most])
 
 
 @dataclass
@@ -302,6 +318,7 @@ class _Engine:
         self.steps = STEPS_PER_VERTEX * max(len(v1), len(v2))
         self.most_steps = max(MOST_STEPS, self.steps)
         self.evaluations = 0
+        self.mirror = pair.mirror_symmetric  # each leaf below the x axis is decided as its mirror image
         self.depth_cache = {}
         self.best = {}  # component root -> the leaf where its depth was proved largest
         # b: allowed points that are no leaf's centre (x, y, clearance): the centres of split leaves, and allowed
@@ -315,14 +332,46 @@ class _Engine:
         """Leaves (level, i, j): whether each centre is allowed (and how far that lasts), or certified deep.
 
         ``hint``: an orientation to try first at each centre (NaN for none): where it leaves the curves apart,
-        the centre is allowed and the exact windows are not needed."""
-        side = 2.0 * self.half / (self.base * np.exp2(level))
-        x = -self.half + (i + 0.5) * side
-        y = -self.half + (j + 0.5) * side
-        h = side / math.sqrt(2.0)
-        n = len(x)
+        the centre is allowed and the exact windows are not needed. For a mirror-symmetric pair a leaf below
+        the x axis whose mirror image is among the leaves is decided as that image is (:meth:`_mirrored`)."""
+        n = len(i)
         steps = np.full(n, self.steps) if steps is None else steps
         hint = np.full(n, np.nan) if hint is None else hint
+        self.evaluations += n
+        if not self.mirror:
+            return self._decided(level, i, j, bound, steps, hint)
+        return self._mirrored(level, i, j, bound, steps, hint)
+
+    def _mirrored(self, level, i, j, bound, steps, hint):
+        """:meth:`evaluate` for a pair symmetric about the x axis: (t, φ) overlaps where (Mt, −φ) does, M the
+        mirror y → −y, so the depth and the allowed set are symmetric and a leaf's mirror image is decided as it
+        is, its orientations turned to −φ. The centres are exact mirror images (:meth:`centres`), and so are the
+        polylines (:attr:`sesp.Pair.mirror_symmetric`). Each pair of images is decided once, above the axis."""
+        flip = self.base * (1 << level) - 1 - j  # the row of the mirror image
+        below = j < flip
+        key = np.column_stack([level, i, np.where(below, flip, j)])
+        _, first, back = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        back = back.ravel()
+        once = self._decided(
+            level[first], i[first], key[first, 2], bound[first], steps[first], np.where(below, -hint, hint)[first]
+        )
+        L = once.take(back)
+        L.j, L.bound = j, bound
+        L.y = np.where(below, -L.y, L.y)
+        L.middle = np.where(below, -L.middle, L.middle)
+        return L
+
+    def centres(self, level, i, j):
+        """The centres (b) of leaves (level, i, j) and their half-diagonals (b): exact mirror images of each
+        other about both axes (a whole number times half a cell side)."""
+        cells = self.base * np.exp2(level)
+        step = self.half / cells  # half a cell side
+        return (2 * i + 1 - cells) * step, (2 * j + 1 - cells) * step, step * math.sqrt(2.0)
+
+    def _decided(self, level, i, j, bound, steps, hint):
+        """:meth:`evaluate` of every leaf."""
+        x, y, h = self.centres(level, i, j)
+        n = len(x)
         clearance = np.zeros(n)
         middle = np.where(np.isnan(hint), 0.0, hint)
         tried = np.nonzero(~np.isnan(hint))[0]
@@ -340,7 +389,6 @@ class _Engine:
             sel = rest[ok]
             allowed[sel], middle[sel] = True, mid[ok]
             clearance[sel] = np.maximum(self._clearance(x[sel], y[sel], mid[ok], h[sel]), 0.0)
-        self.evaluations += n
         clearance = np.where(allowed, clearance, 0.0)
         return _Leaves(level, i, j, x, y, h, allowed, clearance, middle, deep, steps, ran_out, radius, bound)
 
@@ -480,16 +528,23 @@ class _Engine:
         finest = self.levels
         scale = np.exp2(finest - L.level[left])  # corners in units of the finest cell side
         i0, j0 = L.i[left] * scale, L.j[left] * scale
+        cells = self.base * 2**finest
         keys = {(a + da * s, b + db * s) for a, b, s in zip(i0, j0, scale) for da in (0, 1) for db in (0, 1)}
+        if self.mirror:  # a corner below the axis is decided as its mirror image (:meth:`_mirrored`)
+            keys = {(a, max(b, cells - b)) for a, b in keys}
         keys = sorted(k for k in keys if k not in self.probed)
         if not keys:
             return False
         self.probed.update(keys)
-        side = 2.0 * self.half / (self.base * 2.0**finest)
-        corners = -self.half + np.array(keys, dtype=float) * side
+        corners = (2 * np.array(keys, dtype=float) - cells) * (self.half / cells)  # exact mirror images, as centres
         x, y = corners[:, 0].copy(), corners[:, 1].copy()
         ok = self._allowed(x, y, self._nearest_middle(L, x, y))
-        self.points = np.concatenate([self.points, np.column_stack([corners[ok], np.zeros(int(ok.sum()))])])
+        found = corners[ok]
+        if self.mirror:
+            images = found[found[:, 1] > 0] * np.array([1.0, -1.0])
+            self.probed.update((a, cells - b) for a, b in keys)
+            found = np.concatenate([found, images])
+        self.points = np.concatenate([self.points, np.column_stack([found, np.zeros(len(found))])])
         return bool(ok.any())
 
     def _allowed(self, x, y, hint):
@@ -558,11 +613,8 @@ class _Engine:
         else:
             far = L.h[inn]
         order = inn[np.lexsort((L.radius[inn], far))[::-1]]
-        tried, self.best = {}, {}
-        for k in order:
-            if tried.setdefault(U[k], 0) >= CANDIDATES:
-                continue
-            tried[U[k]] += 1
+        self.best = {}
+        for k in order[_first_per_group(U[order], CANDIDATES)]:
             got = self._depth_at(L, k)
             if got > depth[U[k]]:
                 depth[U[k]], self.best[U[k]] = got, k

@@ -9,7 +9,7 @@ an edge or at a corner). Components are found with one union-find.
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .common import JIT, find_root
 
@@ -21,7 +21,7 @@ def _key(level, i, j):
     return (level << 56) | (i << 28) | j
 
 
-@njit(**JIT)
+@njit(**JIT, parallel=True)
 def leaf_edges(level, ii, jj, base):
     """(a, b): every ordered pair of adjacent leaves (both orders), at least once.
 
@@ -29,6 +29,7 @@ def leaf_edges(level, ii, jj, base):
     neighbour itself or the larger leaf it lies in (its ancestors are tried
     in turn). A neighbour subdivided into smaller leaves is not found this
     way, but each of those finds this leaf, so every adjacent pair is found; each is listed both ways.
+    Each leaf writes its own 8 slots (one thread each): the pairs come in the same order on any thread count.
     """
     n = level.shape[0]
     keys = np.empty(n, np.int64)
@@ -36,10 +37,8 @@ def leaf_edges(level, ii, jj, base):
         keys[a] = _key(level[a], ii[a], jj[a])
     order = np.argsort(keys)
     sorted_keys = keys[order]
-    ea = np.empty(8 * n, np.int64)
-    eb = np.empty(8 * n, np.int64)
-    m = 0
-    for a in range(n):
+    found = np.full(8 * n, -1, np.int64)  # slot 8a + d: the leaf holding leaf a's neighbour d, or -1
+    for a in prange(n):
         for d in range(8):
             k = level[a]
             i = ii[a] + _DIRECTIONS[d, 0]
@@ -51,14 +50,14 @@ def leaf_edges(level, ii, jj, base):
                 key = _key(k, i, j)
                 at = np.searchsorted(sorted_keys, key)
                 if at < n and sorted_keys[at] == key:
-                    ea[m] = a
-                    eb[m] = order[at]
-                    m += 1
+                    found[8 * a + d] = order[at]
                     break
                 k -= 1
                 i >>= 1
                 j >>= 1
-    return np.concatenate((ea[:m], eb[:m])), np.concatenate((eb[:m], ea[:m]))
+    slots = np.flatnonzero(found >= 0)
+    ea, eb = slots // 8, found[slots]
+    return np.concatenate((ea, eb)), np.concatenate((eb, ea))
 
 
 @njit(**JIT)
