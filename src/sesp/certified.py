@@ -587,19 +587,19 @@ class _Engine:
         SUBCELLS squares per leaf, each inside one disk of the NEAREST of each kind (fewer shown: more split)."""
         k = SUBCELLS
         offsets = ((np.arange(k) + 0.5) / k * 2.0 - 1.0) / math.sqrt(2.0)  # square centres, in half-diagonals
-        ox, oy = (o.ravel() for o in np.meshgrid(offsets, offsets, indexing="ij"))
         x, y, h = L.x[which], L.y[which], L.h[which]
-        sx, sy, sh = x[:, None] + h[:, None] * ox, y[:, None] + h[:, None] * oy, (h / k)[:, None]
         allowed = self._allowed_points(L)
-        covered = np.zeros(sx.shape, bool)
+        disks = []  # per leaf: the centres and radii (b) of its NEAREST disks of each kind
         for cx, cy, cr, extra in ((L.x[inn], L.y[inn], L.radius[inn], rim), (*allowed.T, self.eps + rim)):
             near = min(NEAREST, len(cx))
-            if not near:
-                continue
-            _, idx = cKDTree(np.column_stack([cx, cy])).query(np.column_stack([x, y]), k=near)
-            for j in idx.reshape(len(x), near).T:
-                covered |= np.hypot(sx - cx[j][:, None], sy - cy[j][:, None]) + sh < (cr[j] + extra)[:, None]
-        return covered.all(axis=1)
+            if near:
+                _, idx = cKDTree(np.column_stack([cx, cy])).query(np.column_stack([x, y]), k=near)
+                idx = idx.reshape(len(x), near)
+                disks.append((cx[idx], cy[idx], cr[idx] + extra[:, None]))
+        if not disks:
+            return np.zeros(len(x), bool)
+        cx, cy, reach = (np.ascontiguousarray(np.concatenate(d, axis=1)) for d in zip(*disks))
+        return cell_kernels.squares_in_disks(x, y, h, offsets, cx, cy, reach)
 
     def _depths(self, L, status, U):
         """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell."""

@@ -61,6 +61,33 @@ def leaf_edges(level, ii, jj, base):
 
 
 @njit(**JIT)
+def squares_in_disks(x, y, h, offsets, cx, cy, reach):
+    """Per leaf a (centre x, y and half-diagonal h, b): whether each of its k × k squares, centred at
+    (x + h·offsets[p], y + h·offsets[q]) with half-diagonal h/k, lies inside one of the disks about
+    (cx[a, d], cy[a, d]) of radius reach[a, d] (strictly): its centre is nearer than the radius less h/k."""
+    k = offsets.shape[0]
+    out = np.zeros(x.shape[0], np.bool_)
+    for a in range(x.shape[0]):
+        sh = h[a] / k
+        every = True
+        for p in range(k):
+            for q in range(k):
+                sx, sy = x[a] + h[a] * offsets[p], y[a] + h[a] * offsets[q]
+                inside = False
+                for d in range(cx.shape[1]):
+                    if math.hypot(sx - cx[a, d], sy - cy[a, d]) + sh < reach[a, d]:
+                        inside = True
+                        break
+                every = every and inside
+                if not every:
+                    break
+            if not every:
+                break
+        out[a] = every
+    return out
+
+
+@njit(**JIT)
 def _union(parent, a, b):
     ra, rb = find_root(parent, a), find_root(parent, b)
     if ra != rb:
