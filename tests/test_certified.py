@@ -301,6 +301,25 @@ def test_two_tips_through_opposite_sides_prove_a_depth_no_one_pair_of_runs_shows
     assert allowed_orientations(pair, x[0] + 3.7e-4 * math.cos(turn), y[0] + 3.7e-4 * math.sin(turn)) > 0
 
 
+def test_two_tips_sliding_along_flat_sides_are_certified_in_long_turns_and_excluded_by_brute_force():
+    """n = 8, Ψ = 179.7°, at (−0.3251, −2e-5) b, on the thin axis strip: near φ = 0 both ends of curve 2 lie on
+    the flat top and bottom of curve 1, 1.1e-5 and 1.3e-5 b through them, and slide along them as φ turns. Their
+    motion across the sides is a fifth of their speed, so the half-planes hold over turns long enough that the
+    walk at 3.83e-5 b closes within 128 intervals (bounded by the curve's radius instead it took over 500).
+    Exact windows find no allowed position 0.999 of that depth away (64 directions)."""
+    from sesp.orientations import widest_window
+
+    part, r = SeSP(n=8, opening=math.radians(179.7)), 3.83e-5
+    pair = as_pair(part, segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    x, y = np.array([-0.32510]), np.array([-0.000020])
+    assert depth_kernels.certified_deep(curves, x, y, r, 128).tolist() == [1]
+    assert depth_kernels.certified_deep(curves, x, y, r, 1 << 16, tips=False).tolist() == [0]
+    turns = np.linspace(0, 2 * math.pi, 64, endpoint=False)
+    width, _ = widest_window(part, x + 0.999 * r * np.cos(turns), y + 0.999 * r * np.sin(turns), segments=256)
+    assert np.all(width == 0)
+
+
 @pytest.mark.parametrize(("n", "degrees"), [(10, 170), (8, 175)])
 def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     """Where two end points prove a position 1e-4 b deep and one pair of runs does not (positions along the

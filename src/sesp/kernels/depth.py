@@ -34,9 +34,12 @@ that without sampling φ:
   curve that is a graph over a line across the disk, keeps a pair of runs
   crossing oddly for every translation in a half-plane (the side of the run
   its parity gives); two half-planes that cover the disk of radius r certify
-  it (:func:`two_tips`). Turning φ by δ moves the end point at most ρδ from
-  the run (ρ: curve 2's radius), so the half-planes, moved by ρδ, hold over
-  an interval of φ.
+  it (:func:`two_tips`). Turning φ by δ moves the end point towards the
+  run's line by A·sin δ + B·(cos δ − 1), A and B from its distance to the
+  centre of rotation, so each half-plane, moved by at most that, holds over
+  an interval of φ. The rate A is the end point's speed across the line, not
+  along it: where both ends of curve 2 slide along the flat sides of curve 1,
+  the interval is many times longer than the end point's whole speed allows.
 
 :func:`cover` walks around the circle of orientations: at the first φ not yet
 certified it looks for an arc pair with an odd crossing number and end points
@@ -480,24 +483,44 @@ def _half_plane(plane, q, odd, slack):
 
 
 @njit(**JIT)
-def _covered(plane, a, odd_a, b, odd_b, r, slack):
-    """Whether the half-planes of tips a and b, on their parities' sides, hold every translation shorter than r."""
-    ax, ay, ca = _half_plane(plane, a, odd_a, slack)
-    bx, by, cb = _half_plane(plane, b, odd_b, slack)
+def _covered(plane, a, odd_a, slack_a, b, odd_b, slack_b, r):
+    """Whether the half-planes of tips a and b, on their parities' sides and moved by their slacks (b), hold
+    every translation shorter than r."""
+    ax, ay, ca = _half_plane(plane, a, odd_a, slack_a)
+    bx, by, cb = _half_plane(plane, b, odd_b, slack_b)
     return _least_norm(ax, ay, ca, bx, by, cb) >= r
 
 
 @njit(**JIT)
-def _largest_slack(plane, a, odd_a, b, odd_b, r, most):
-    """The largest slack (b, at most ``most``; 0 if none) by which both half-planes may move and still cover."""
-    if not _covered(plane, a, odd_a, b, odd_b, r, 0.0):
-        return 0.0
-    if _covered(plane, a, odd_a, b, odd_b, r, most):
-        return most
-    lo, hi = 0.0, most
-    for _ in range(30):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if _covered(plane, a, odd_a, b, odd_b, r, mid) else (lo, mid)
+def _shift(turning, q, odd, direction, turn):
+    """b: how far tip q's half-plane moves against its parity's side while φ turns by at most ``turn`` (rad) in
+    ``direction`` (±1). ``turning[q]``: (A, B, extra, |d|) of :func:`two_tips`: the tip moves towards its run's
+    line by A·sin δ + B·(cos δ − 1) (δ the signed turn), and by at most extra·|δ| more; over every turn up to
+    ``turn`` that is at most max(±A, 0)·turn + max(∓B, 0)·turn²/2 + extra·turn."""
+    rate, bend, extra = direction * turning[q, 0], turning[q, 1], turning[q, 2]
+    if not odd:  # the half-plane of an even parity lies on the other side: the height moves it the other way
+        rate, bend = -rate, -bend
+    return max(rate, 0.0) * turn + max(-bend, 0.0) * 0.5 * turn * turn + extra * turn
+
+
+@njit(**JIT)
+def _largest_turn(plane, turning, a, odd_a, b, odd_b, r, most, lateral, below, direction):
+    """The largest turn of φ (rad, at most ``most``; 0 if none) in ``direction`` over which both half-planes,
+    moved by their shifts (:func:`_shift`, each at most ``below``), still cover the disk of radius r, and
+    each tip moves along its run by at most ``lateral`` (b) less r (the slab about it)."""
+    hi = most
+    for q in (a, b):
+        hi = min(hi, lateral / (turning[q, 3] + turning[q, 2]))
+    lo = 0.0
+    for k in range(31):
+        turn = hi if k == 0 else 0.5 * (lo + hi)
+        slack_a, slack_b = _shift(turning, a, odd_a, direction, turn), _shift(turning, b, odd_b, direction, turn)
+        if slack_a <= below and slack_b <= below and _covered(plane, a, odd_a, slack_a, b, odd_b, slack_b, r):
+            if k == 0:
+                return hi
+            lo = turn
+        else:
+            hi = turn
     return lo
 
 
@@ -515,9 +538,11 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
     every v that leaves e below α (the side of e's foot on the line), the other above. So where P is odd the
     runs cross for every v that puts e lower than α's least height in the slab, where it is even higher than
     its greatest: a half-plane of translations. As φ turns by at most δ, e moves at most s relative to α and α
-    turns by at most δ: the half-plane, its heights moved by s, holds while the far ends stay r from the other
-    run (:func:`_certified_interval`). Two tips whose half-planes cover the disk certify it. The graphs and runs
-    are found for δ at most r/ρ (then 1/16 of that), and δ is the largest that keeps the disk covered.
+    turns by at most δ: the half-plane, its heights moved by e's motion across α's line (:func:`_shift`: as
+    φ turns, e turns about t, seen from curve 2's frame where e is curve 1's), holds while the far ends stay r
+    from the other run (:func:`_certified_interval`). Two tips whose half-planes cover the disk certify it. The
+    graphs and runs are found for δ at most r/ρ (then 1/16 of that), and δ, ahead and behind, is the largest
+    that keeps the disk covered (:func:`_largest_turn`).
     ``w``, ``boxes2``, ``cross``, ``count``: curve 2 at (t, φ) and its crossings."""
     v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = curves
     if p1 or p2:
@@ -537,6 +562,7 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
     if m < 2:
         return 0.0, 0.0
     plane = np.empty((m, 4))  # per tip: the normal (a_x, a_y) in translations of curve 2, least and greatest heights
+    turning = np.empty((m, 4))  # per tip: how its height above its run changes as φ turns (:func:`_shift`)
     graph = np.empty((m, 3), np.int64)  # per tip: c0, c1, and 1 where e lies above α (−1: no graph)
     runs = np.empty((2, 5), np.int64)
     odd = np.empty(2, np.bool_)
@@ -548,6 +574,11 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
             c0, c1, nx, ny, low, high, at_e = _graph(own[tips[q], 0], own[tips[q], 1], other, nearest[q], reach, most)
             sign = 1.0 if sides[q] == 2 else -1.0  # e moves by v (curve 2) or by −v (curve 1) relative to α
             plane[q, 0], plane[q, 1], plane[q, 2], plane[q, 3] = sign * nx, sign * ny, low, high
+            # turning φ by δ moves e relative to α by (R(sign·δ) − I)·d, d = e − t (curve 2 turns about t); a
+            # tip of curve 1 is seen from curve 2's frame, where the translation v turns too: at most r·|δ| more
+            dx, dy = own[tips[q], 0] - tx, own[tips[q], 1] - ty
+            turning[q, 0], turning[q, 1] = sign * (ny * dx - nx * dy), nx * dx + ny * dy
+            turning[q, 2], turning[q, 3] = (0.0 if sides[q] == 2 else r), math.hypot(dx, dy)
             # no graph, or e too close to α to tell its side
             graph[q, 0], graph[q, 1], graph[q, 2] = c0, c1, (-1 if c0 < 0 or abs(at_e) < 1e-13 else at_e < 0.0)
         for a in range(m):
@@ -557,7 +588,7 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
                 hope = False
                 for oa in (False, True):
                     for ob in (False, True):
-                        hope = hope or _covered(plane, a, oa, b, ob, r, 0.0)
+                        hope = hope or _covered(plane, a, oa, 0.0, b, ob, 0.0, r)
                 if not hope:
                     continue  # no parities would do: the runs need not be found
                 for k in range(2):
@@ -570,10 +601,12 @@ def two_tips(curves, w, boxes2, cross, count, tx, ty, phi, r, near1, far1, roots
                 # a point of the disk stays below each α (its height less than the least, moved): the parity
                 # below is the same all along
                 below = min(plane[a, 2], plane[b, 2]) + 0.99 * r
-                slack = _largest_slack(plane, a, odd[0], b, odd[1], r, min(rho * most, below))
-                if slack <= LEAST_TIP_STEP * r:
+                ahead = _largest_turn(plane, turning, a, odd[0], b, odd[1], r, most, 2.0 * rho * most, below, 1.0)
+                if ahead * rho <= LEAST_TIP_STEP * r:
                     continue
-                ahead, behind = slack / rho, slack / rho if first else 0.0
+                behind = 0.0
+                if first:
+                    behind = _largest_turn(plane, turning, a, odd[0], b, odd[1], r, most, 2.0 * rho * most, below, -1.0)
                 for k in range(2):
                     got = _certified_interval(
                         v1, boxes1, near1, far1, runs[k, 0], runs[k, 1], v2, frame_boxes2, rin2, rout2, runs[k, 2],
