@@ -510,7 +510,9 @@ def _largest_turn(plane, turning, a, odd_a, b, odd_b, r, most, lateral, below, d
     each tip moves along its run by at most ``lateral`` (b) less r (the slab about it)."""
     hi = most
     for q in (a, b):
-        hi = min(hi, lateral / (turning[q, 3] + turning[q, 2]))
+        speed = turning[q, 3] + turning[q, 2]  # b per radian, at most (0: a tip at the centre of rotation)
+        if speed * hi > lateral:
+            hi = lateral / speed
     lo = 0.0
     for k in range(31):
         turn = hi if k == 0 else 0.5 * (lo + hi)
