@@ -35,7 +35,7 @@ that without sampling φ:
   crossing oddly for every translation in a half-plane (the side of the run
   its parity gives); two half-planes that cover the disk of radius r certify
   it (:func:`two_tips`). Turning φ by δ moves the end point towards the
-  run's line by A·sin δ + B·(cos δ − 1), A and B from its distance to the
+  run's line by A·sin δ + B·(cos δ − 1), A and B from its offset from the
   centre of rotation, so each half-plane, moved by at most that, holds over
   an interval of φ. The rate A is the end point's speed across the line, not
   along it: where both ends of curve 2 slide along the flat sides of curve 1,
