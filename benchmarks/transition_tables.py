@@ -4,7 +4,11 @@ Every change is bracketed by bisection (``sesp.transitions``); the table
 says, per n, whether the brackets, and the counts decided on each side of
 them, are identical on every base grid given: for the certain changes (the
 counts on the two sides have no value in common) and for all of them (also
-where a count becomes undecided, which depends on the cells).
+where a count becomes undecided, which depends on the cells). It also says
+whether the grids contradict each other: at every opening counted on two
+grids, their brackets must share a value (two decided counts must be equal)
+unless a component shallower than ε + rim lies in another's rim, which one
+grid may find and another miss (:attr:`sesp.Certified.rim`).
 
 With several ``--workers`` each table is run once per number of worker processes, and the script says
 whether the tables are identical and how the times compare (the counts do not depend on them).
@@ -44,12 +48,13 @@ def main():
     print(f"machine: {machine()}; resolution {args.resolution:g} b, {args.segments} segments, step {args.step:g}°, "
           f"brackets at most {args.width:g}° wide\n")  # fmt: skip
     for n in args.n:
-        seen = {}
+        seen, counts = {}, {}
         for base in args.bases:  # each change is printed as it is bracketed, each run's table when it is done
             runs = {}
             for workers in args.workers:
                 found, seconds = _run(n, base, workers, args)
                 runs[workers] = ({o: (f.low, f.high) for o, f in found.counts.items()}, seconds)
+            counts[base] = runs[args.workers[0]][0]
             # where each change lies and what is known on each side (a count, or None where undecided)
             got = {"certain changes": found.certain_changes(), "all changes": found.changes}
             seen[base] = {which: [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
@@ -63,7 +68,29 @@ def main():
         for which in ("certain changes", "all changes") if len(seen) > 1 else ():  # one grid: nothing to compare
             same = len({tuple(v[which]) for v in seen.values()}) == 1
             print(f"n = {n:g}: {which} {'identical' if same else 'NOT identical'} on bases {args.bases}", flush=True)
+        if len(counts) > 1:
+            print(f"n = {n:g}: {_contradictions(counts)}", flush=True)
         print(flush=True)
+
+
+def _contradictions(counts) -> str:
+    """Whether two grids contradict each other at an opening both counted: brackets with no value in common."""
+    bases, common, said = list(counts), 0, []
+    for k, a in enumerate(bases):
+        for b in bases[k + 1 :]:
+            for opening in sorted(counts[a].keys() & counts[b].keys()):
+                common += 1
+                (la, ha), (lb, hb) = counts[a][opening], counts[b][opening]
+                if ha < lb or hb < la:
+                    at = f"{math.degrees(opening):.2f}°"
+                    said.append(f"{at}: base {a} {_bracket(la, ha)}, base {b} {_bracket(lb, hb)}")
+    if not said:
+        return f"no contradiction: at the {common} (opening, pair of grids) counted on both, the brackets share a value"
+    return f"CONTRADICTED at {len(said)} of {common} (opening, pair of grids): " + "; ".join(said)
+
+
+def _bracket(low, high) -> str:
+    return f"{low}" if low == high else f"{low}-{high}"
 
 
 def _run(n, base, workers, args):
