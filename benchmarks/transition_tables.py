@@ -54,7 +54,7 @@ def main():
             for workers in args.workers:
                 found, seconds = _run(n, base, workers, args)
                 runs[workers] = ({o: (f.low, f.high) for o, f in found.counts.items()}, seconds)
-            counts[base] = runs[args.workers[0]][0]
+            counts[base] = found.counts  # opening -> Certified (the same with any number of workers)
             # where each change lies and what is known on each side (a count, or None where undecided)
             got = {"certain changes": found.certain_changes(), "all changes": found.changes}
             seen[base] = {which: [(round(math.degrees(t.low), 4), round(math.degrees(t.high), 4), t.before.count,
@@ -80,17 +80,12 @@ def _contradictions(counts) -> str:
         for b in bases[k + 1 :]:
             for opening in sorted(counts[a].keys() & counts[b].keys()):
                 common += 1
-                (la, ha), (lb, hb) = counts[a][opening], counts[b][opening]
-                if ha < lb or hb < la:
-                    at = f"{math.degrees(opening):.2f}°"
-                    said.append(f"{at}: base {a} {_bracket(la, ha)}, base {b} {_bracket(lb, hb)}")
+                fa, fb = counts[a][opening], counts[b][opening]
+                if fa.high < fb.low or fb.high < fa.low:
+                    said.append(f"{math.degrees(opening):.2f}°: base {a} {fa.bracket}, base {b} {fb.bracket}")
     if not said:
         return f"no contradiction: at the {common} (opening, pair of grids) counted on both, the brackets share a value"
     return f"CONTRADICTED at {len(said)} of {common} (opening, pair of grids): " + "; ".join(said)
-
-
-def _bracket(low, high) -> str:
-    return f"{low}" if low == high else f"{low}-{high}"
 
 
 def _run(n, base, workers, args):
