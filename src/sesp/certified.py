@@ -167,25 +167,53 @@ class CertifiedComponent:
     area_bound: float
     box: tuple
     departure: float = 0.0  # b: the polylines' departure from the smooth curves
+    top: float = math.inf  # b: an upper bound on its largest depth
+    bar: float = 0.0  # b: the depth from which a component is counted (resolution + rim)
+
+    @property
+    def counted(self) -> bool:
+        """Certified at least ``bar`` deep: it holds a counted component."""
+        return self.parts > 0 and self.depth >= self.bar
+
+    @property
+    def shallow(self) -> bool:
+        """Certified shallower than ``bar`` everywhere: it holds no counted component."""
+        return self.top < self.bar
 
     @property
     def decided(self) -> bool:
-        return self.parts == 1
+        return self.shallow or (self.parts == 1 and self.counted)
 
     def tag(self) -> str:
-        """A few words for a legend: "" for one decided component, else what is undecided; † where it is
-        shallower than the polylines' departure from the curves."""
-        said = {1: "", 0: "undecided: no certified part"}.get(self.parts, f"undecided: {self.parts} parts")
+        """A few words for a legend: "" for one counted component, else what is undecided or why it is not
+        counted; † where it is shallower than the polylines' departure from the curves."""
+        if self.shallow:
+            said = "not counted: shallow"
+        elif self.decided:
+            said = ""
+        elif not self.parts:
+            said = "undecided: no certified part"
+        elif self.parts > 1:
+            said = f"undecided: {self.parts} parts"
+        else:
+            said = "undecided: depth"
         return " ".join(w for w in (said, "†" if self.depth < self.departure else "") if w)
 
     def why(self) -> str:
-        if self.parts == 1:
-            said = "one component"
-        elif self.parts == 0:
+        if self.shallow:
+            said = f"not counted: at most {self.top:.1e} b deep, less than resolution + rim ({self.bar:.1e} b)"
+        elif not self.parts:
             said = "no cell of it is certified deeper than the resolution: at most about the resolution deep, or none"
-        else:
+        elif self.parts > 1:
             said = f"{self.parts} certified parts whose joins were not decided down to the floor"
-        if self.depth < self.departure:
+        elif not self.counted:
+            said = (
+                f"{self.depth:.1e} to {self.top:.1e} b deep: whether it reaches resolution + rim "
+                f"({self.bar:.1e} b) was not decided down to the floor"
+            )
+        else:
+            said = "one component"
+        if self.depth < self.departure and not self.shallow:
             said += (
                 f"; shallower than the polylines' departure from the curves ({self.departure:.1e} b): a feature of "
                 "the polylines, not resolved for the smooth particle (more segments resolve it)"
@@ -295,8 +323,8 @@ def certified_components(
     0
     """
     check_resolution(resolution, rim, base)
-    rim = RIM_RATIO * resolution if rim is None else rim
     pair = as_pair(particle, other, segments=segments)
+    rim = max(resolution, pair.departure) if rim is None else rim
     return _Engine(pair, resolution, rim, int(base)).run(progress)
 
 
@@ -308,7 +336,7 @@ class _Engine:
         # a part is a seed of its own where its certified disk reaches the rim length: every part holding a base
         # cell must be one, so the rim is at most half a base cell's half-diagonal
         self.rim = max(resolution, min(rim, self.half * math.sqrt(2.0) / base / 2))
-        self.rim_used = self.rim  # b: the coarsest rim a candidate with a part was searched to
+        self.bar = resolution + self.rim  # b: a component is counted where it is at least this deep
         v1, v2 = pair.vertices1, pair.vertices2
         self.spans2 = radial_spans(v2)
         self.boxes1 = chunk_boxes(v1, np.empty((chunk_count(v1), 4)))
@@ -463,11 +491,13 @@ class _Engine:
         a, b = ea[via], eb[via]
         reach = np.hypot(L.x[a] - L.x[b], L.y[a] - L.y[b]) + L.h[a] - L.clearance[b]
         np.minimum.at(hi, a, np.maximum(0.0, reach))
-        far = ~L.allowed & ~L.deep & (hi >= self.eps)
+        far = ~L.allowed & (hi >= self.eps)  # in-cells too: a candidate's largest bound decides it shallow
         allowed = self._allowed_points(L)
         if far.any() and len(allowed):  # the nearest allowed point anywhere bounds the depth too
-            gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]))
-            hi[far] = np.minimum(hi[far], np.maximum(0.0, gap + L.h[far] - allowed[k, 2]))
+            near = min(NEAREST, len(allowed))
+            gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]), k=near)
+            reach = gap.reshape(-1, near) - allowed[k.reshape(-1, near), 2]
+            hi[far] = np.minimum(hi[far], np.maximum(0.0, reach.min(axis=1) + L.h[far]))
         status = np.full(len(L.x), UNDECIDED)
         status[L.deep] = IN
         status[(status == UNDECIDED) & (hi < self.eps)] = OUT
@@ -491,7 +521,7 @@ class _Engine:
                 if (now := int(L.level.max())) > deepest:
                     bar.update(now - deepest)
                     deepest = now
-        found = self._result(L, status, U, seed)
+        found = self._result(L, status, hi, U, seed)
         found.seconds = time.perf_counter() - start
         return found
 
@@ -505,18 +535,36 @@ class _Engine:
         parts = cell_kernels.disk_components(inn, L.x, L.y, L.radius, L.h, *near)
         has_part = np.zeros(len(L.x), bool)
         has_part[U[inn]] = True
-        seed = np.where(inn, parts, -1)  # every certified part: two in one candidate are refined between
-        between = und & cell_kernels.corridors(seed, und | inn, *near, 2)
+        seed = np.where(inn, parts, -1)
+        capable = self._capable(seed, und, hi, ea, eb)
+        # parts that may each be a counted component of their own: two in one candidate are refined between
+        between = und & cell_kernels.corridors(np.where(capable[np.maximum(seed, 0)], seed, -1), und | inn, *near, 2)
         empty = und & ~has_part[np.maximum(U, 0)]
-        depth = self._depths(L, status, U)
-        rim = np.clip(depth[np.maximum(U, 0)] / 4, self.eps, self.rim)  # a quarter of its depth, in [ε, rim]
-        self.rim_used = float(rim[inn].max()) if inn.any() else self.rim
-        on_rim = und & (hi >= self.eps + rim)
-        on_rim[on_rim] = ~self._searched(L, inn, on_rim, rim[on_rim])
+        root = np.maximum(U, 0)
+        depth, top = self._depths(L, status, U), self._tops(hi, U)
+        shallow = (U >= 0) & (top[root] < self.bar)  # in a candidate proved shallower than ε + rim: not counted
+        unsure = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar)  # may hold the deep point
+        on_rim = und & ~shallow & (hi >= self.bar)
+        on_rim[on_rim] = ~self._searched(L, inn, on_rim, np.full(int(on_rim.sum()), self.rim))
         above_floor = L.h * math.sqrt(2.0) > self.floor
-        split = (between | empty | on_rim) & above_floor
+        split = ((between | empty) & ~shallow | on_rim | unsure) & above_floor
         retry = und & L.ran_out & (L.steps < self.most_steps)
-        return split & ~retry, retry, between, seed, U
+        return split & ~retry, retry, between, np.where(capable[np.maximum(seed, 0)], seed, -1), U
+
+    def _capable(self, seed, und, hi, ea, eb):
+        """Per seed (a leaf index): whether its part may be a counted component of its own. Such a component
+        holds a point at least ``bar`` deep, so a leaf whose bound ``hi`` reaches ``bar`` (tall), joined to the
+        part within E_ε and without passing another part (that part would be in the same component): the tall
+        leaf is the part's own, or lies in a run of undecided leaves that touches the part."""
+        tall = hi >= self.bar
+        run = cell_kernels.components(und, ea, eb)  # per undecided leaf: its run of undecided leaves
+        tall_run = np.zeros(len(hi), bool)
+        tall_run[run[und & tall]] = True
+        capable = np.zeros(len(hi), bool)
+        capable[seed[(seed >= 0) & tall]] = True
+        touch = (seed[ea] >= 0) & und[eb]
+        capable[seed[ea[touch]][tall_run[run[eb[touch]]]]] = True
+        return capable
 
     def _probe_corners(self, L, left):
         """Whether allowed corners were found for the ``left`` leaves: undecided, between two parts, and with a
@@ -620,6 +668,14 @@ class _Engine:
                 depth[U[k]], self.best[U[k]] = got, k
         return depth
 
+    @staticmethod
+    def _tops(hi, U):
+        """Per component root: an upper bound on its depth (b), the largest bound on any of its leaves."""
+        top = np.zeros(len(hi))
+        member = U >= 0
+        np.maximum.at(top, U[member], hi[member])
+        return top
+
     def _depth_at(self, L, k):
         """b: the largest depth the certificate proves at leaf k's centre, within a factor 1.0009."""
         key = (L.level[k], L.i[k], L.j[k])
@@ -700,9 +756,9 @@ class _Engine:
             children.append(self.evaluate(level[sel], i[sel], j[sel], bound[sel], steps[sel], hint[sel]))
         return _Leaves.joined(children)
 
-    def _result(self, L, status, U, seed):
+    def _result(self, L, status, hi, U, seed):
         area = (L.h * math.sqrt(2.0)) ** 2
-        depth = self._depths(L, status, U)
+        depth, top = self._depths(L, status, U), self._tops(hi, U)
         for root, k in self.best.items():
             depth[root] = self._deepest(L, k, depth[root])
         member = np.nonzero(U >= 0)[0]
@@ -714,9 +770,10 @@ class _Engine:
             parts = len(np.unique(seed[m][seed[m] >= 0]))
             inn = m[status[m] == IN]
             box = (float(L.x[m].min()), float(L.x[m].max()), float(L.y[m].min()), float(L.y[m].max()))
-            found.append(
-                CertifiedComponent(parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, departure)
-            )
+            found.append(CertifiedComponent(
+                parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, departure,
+                float(top[r]), self.bar,
+            ))  # fmt: skip
         order = np.argsort([-c.depth for c in found], kind="stable")
         rank = np.full(len(L.x), -1)
         rank[roots[order]] = np.arange(len(roots))
@@ -725,8 +782,7 @@ class _Engine:
             "component": np.where(U >= 0, rank[np.maximum(U, 0)], -1),
         }  # fmt: skip
         found = [found[k] for k in order]
-        low = sum(1 for c in found if c.parts)
-        high = sum(max(c.parts, 1) for c in found)
+        low = sum(1 for c in found if c.counted)
+        high = sum(max(c.parts, 1) for c in found if not c.shallow)
         floor = 2.0 * self.half / (self.base * 2.0 ** int(L.level.max()))
-        rim = self.rim_used
-        return Certified(low, high, self.eps, rim, floor, found, self.evaluations, cells=cells)
+        return Certified(low, high, self.eps, self.rim, floor, found, self.evaluations, cells=cells)
