@@ -46,8 +46,9 @@ def test_a_closed_curve_excludes_one_piece(n):
 
 
 def test_a_lens_barely_deeper_than_its_rim_beside_the_body_is_its_own_component():
-    """The ASP at 150° with ε = 1e-2 b: the lens is 1 − sin 75° = 0.034 b deep, the rim 0.022 b; lens and body
-    meet at the centre only, so they are two components, and every certified part is refined apart from others."""
+    """The ASP at 150° with ε = 1e-2 b: the lens is 1 − sin 75° = 0.034 b deep, more than ε + rim (0.02 b); lens
+    and body meet at the centre only, so they are two components, and every certified part is refined apart
+    from others."""
     found = certified_components(_asp(150), resolution=1e-2, segments=128)
     assert (found.low, found.high) == (2, 2)
 
@@ -436,19 +437,18 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
 
 
 @pytest.mark.slow
-def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_report_says_so(capsys):
-    """The ASP at 172.5° and ε = 1e-3 b: the exact lens is 1 − sin(Ψ/2) = 2.14e-3 b deep, less than ε + the
-    default rim (a quarter of the body's depth, 1.6e-3 b), and lies in the body's undecided rim: the count is 1,
-    and the report states the depth below which such a component may be missed. With rim = ε (``--rim`` on the
-    command line) the lens is found, as deep as the exact one within a floor cell."""
+def test_a_lens_shallower_than_resolution_plus_rim_is_not_counted(capsys):
+    """The ASP at 172.5° and ε = 1e-3 b: the exact lens is 1 − sin(Ψ/2) = 2.14e-3 b deep. With rim = 2e-3 b it is
+    shallower than ε + rim: the count is the body alone, and the report says from which depth a component
+    counts. With rim = ε (``--rim`` on the command line) the
+    lens is deeper than ε + rim and counted, as deep as the exact one within a floor cell."""
     asp = SeSP(n=2, opening=math.radians(172.5))
     lens = 1 - math.sin(math.radians(172.5) / 2)
-    coarse = certified_components(asp, resolution=1e-3)
+    coarse = certified_components(asp, resolution=1e-3, rim=2e-3)
     assert coarse.count == 1 and lens < coarse.resolution + coarse.rim
-    assert f"a component less than {coarse.resolution + coarse.rim:.1e} b deep" in str(coarse)
+    assert f"at least {coarse.resolution + coarse.rim:.1e} b deep (resolution + rim" in str(coarse)
     fine = certified_components(asp, resolution=1e-3, rim=1e-3)
     assert fine.count == 2 and lens - 1e-4 < fine.components[1].depth <= lens * (1 + 1e-9)
-    assert "--rim or rim= searches finer" in str(coarse)
     # the same on the command line
     assert main(["-q", "topology", "--n", "2", "--opening", "172.5", "--resolution", "1e-3", "--rim", "1e-3",
                  "--json"]) == 0  # fmt: skip
@@ -456,18 +456,21 @@ def test_a_lens_shallower_than_the_rim_beside_the_body_is_not_sought_and_the_rep
     assert (out["count"], out["rim"]) == (2, 1e-3)
 
 
-def test_a_lens_deeper_than_the_stated_rim_beside_the_body_is_counted():
-    """The stated rim is the coarsest searched: every component deeper than ε + rim is found. The ASP at 165°,
-    ε = 1e-3 b: the exact lens, 1 − sin(82.5°) = 8.6e-3 b deep, is deeper than ε + rim and is counted."""
+def test_a_lens_deeper_than_resolution_plus_rim_beside_the_body_is_counted():
+    """Every component deeper than ε + rim is found. The ASP at 165°, ε = 1e-3 b: the exact lens,
+    1 − sin(82.5°) = 8.6e-3 b deep, is deeper than ε + rim and is counted."""
     found = certified_components(SeSP(n=2, opening=math.radians(165)), resolution=1e-3)
     lens = 1 - math.sin(math.radians(82.5))
     assert lens > found.resolution + found.rim
     assert found.count == 2 and found.components[1].depth <= lens * (1 + 1e-9)
 
 
-def test_the_rim_of_a_shallow_component_is_searched_no_finer_than_the_resolution():
-    """A candidate's rim is a quarter of its certified depth, but never finer than ε. The ASP at 176° with
-    ε = 1e-3 b: one component, less than 4ε deep (a quarter of it is below ε); the rim stated is ε."""
-    found = certified_components(_asp(176), resolution=1e-3, segments=128)
-    assert found.count == 1 and found.components[0].depth < 4 * found.resolution
-    assert found.rim == found.resolution
+def test_the_default_rim_is_a_thousandth_of_b_or_the_resolution_or_the_polylines_departure():
+    """The default rim is 1e-3 b, or ε or the polylines' departure from the curves (b) where larger: a body
+    thinner than the departure may be the polylines' own."""
+    for particle, resolution, segments, want in ((_asp(200), 1e-5, 128, 1e-3), (_asp(200), 1e-1, 128, 1e-1),
+                                                 (SeSP(n=10, opening=math.radians(200)), 1e-5, 64, None)):  # fmt: skip
+        found = certified_components(particle, resolution=resolution, segments=segments)
+        departure = as_pair(particle, segments=segments).departure
+        assert found.rim == (departure if want is None else want) and departure < 1e-1
+        assert (departure > 1e-3) == (want is None)

@@ -2,11 +2,16 @@
 
 Definition. The depth p(t) of a translation t is its distance (b) to the
 nearest allowed translation (one at which some orientation φ leaves the two
-particles apart). At resolution ε the excluded set is counted as the
-components of E_ε = {t : p(t) ≥ ε}: the excluded set eroded by ε. So a
-single-point pinch (the ASP's centre) always separates, a neck narrower than
-2ε separates, and a body thinner than 2ε is not counted. ε is the only
-length that changes the answer.
+particles apart). At resolution ε the excluded set is eroded by ε:
+E_ε = {t : p(t) ≥ ε}. The count is the number of components of E_ε that
+reach a depth of ε + rim: a single-point pinch (the ASP's centre) always
+separates, a neck narrower than 2ε separates, and a component whose deepest
+point is shallower than ε + rim is not counted. In the language of
+persistence: the components born deeper than ε + rim that have not died at
+ε. ``rim`` (b) is 1e-3 b by default, or ε or the polylines' departure from
+the smooth curves (:attr:`sesp.Pair.departure`) where either is larger: a
+body thinner than the departure may be the polylines' own and not the
+particle's. A lower rim counts shallower components at a cost (below).
 
 Certificates. Space is cut into a quadtree of square cells (base × base on
 the particles' reach box, refined by halving). Each cell is
@@ -25,18 +30,26 @@ the particles' reach box, refined by halving). Each cell is
 
 Every component of E_ε lies in one component of in ∪ undecided cells (a
 candidate), and every certified part (in-cells joined where they touch or
-where their certified disks meet) lies in one component of E_ε. So a
-candidate holding parts holds at least one component of E_ε and at most as
-many as its parts: ``low`` counts those candidates, ``high`` adds up their
-parts (and 1 for a candidate without any). Cells are split only where an
-undecided cell could change the bracket: between two parts of one candidate,
-in a candidate without a part, or on a candidate's rim where some point of
-the cell lies farther than rim from every certified disk and may be deeper
-than ε + rim (a point deeper than ε + its distance d to a certified disk
-joins that disk's part: the disk of radius p − ε about it lies in E_ε, the
-depth being 1-Lipschitz, and reaches d; a point within ε + rim of an allowed
-disk, an allowed point's clearance, is shallower than ε + rim). Refinement
-stops at cells of side ε/4. Cells between two parts whose diagonal is below
+where their certified disks meet) lies in one component of E_ε. Each cell
+also has an upper bound on the depth anywhere in it (from the allowed points
+nearby), so a candidate is **shallow**, holding no counted component, where
+the largest bound on its cells is below ε + rim, and **counted** where the
+depth certificate proves a point of it at least ε + rim deep. A counted
+component of a candidate holds a point at least ε + rim deep, so it joins a
+part to a cell whose bound reaches ε + rim without passing another part: only
+parts so placed may be components of their own. ``low`` counts the counted
+candidates, ``high`` adds up those parts of the candidates not shallow (and 1
+for a candidate without any). Cells are split only where an undecided cell
+could change the bracket: between two such parts of one candidate, in a
+candidate without a part, in a candidate neither counted nor shallow where a
+cell's bound reaches ε + rim, or on a candidate's rim where some point of the
+cell lies farther than rim from every certified disk and may be deeper than
+ε + rim (a point deeper than ε + its distance d to a certified disk joins that
+disk's part: the disk of radius p − ε about it lies in E_ε, the depth being
+1-Lipschitz, and reaches d; a point within ε + rim of an allowed disk, an
+allowed point's clearance, is shallower than ε + rim). So every component
+deeper than ε + rim is found, and the count does not depend on the cells.
+Refinement stops at cells of side ε/4. Cells between two parts whose diagonal is below
 ε are tried at their corners too, before they are split: an allowed corner
 then bounds the depth of every point of the cell below ε, and the narrow
 allowed wedge of a pinch on x = 0 runs along cell edges, between centres.
@@ -59,29 +72,17 @@ axis is decided as its mirror image above it (the centres are exact images;
 orientations turn to −φ), which halves the certificates made. A Polyline is
 not assumed symmetric.
 
-Resolution of the search. The rims of candidates are searched for hidden
-components down to ``rim`` (b; default 100 ε, at most half a base cell's
-half-diagonal) or a quarter of the candidate's certified depth, whichever is
-smaller, but never finer than ε (the resolution the count states; finer, the
-rims of the last shallow components near Ψ = π were searched at cells of the
-floor): a component shallower than ε + that length lying inside the
-undecided rim of another may be missed. :attr:`Certified.rim` is the
-coarsest such length: every component deeper than ε + rim is found. So a
-decided count lies between the number of components of E_ε deeper than
-ε + rim and the number of all of them; where a component lies between the
-two (n = 10 at Ψ = 169.2°: an axis strip 7.4e-4 b deep beside the body, at
-ε = 1e-5 b), whether it is counted depends on the cells.
 Why a second length: beside a part, a sliver of E_ε parted from it by an
 allowed finger needs only about 3ε across (ε, finger, ε, sliver, ε), so it
 fits inside one cell and between the points at which certificates are made;
-only cells about ε wide along the whole rim could rule it out, which costs
-far more than the rest of the count. The rim bounds instead how shallow
-such a sliver may be.
-
-The count is that of the polylines. Where ε is below their departure from
-the smooth curves (:attr:`sesp.Pair.departure`), a component or a join
-thinner than the departure may be the polylines' own: more segments resolve
-it (components shallower than the departure are marked †).
+only cells about ε wide along the whole rim could rule it out. The cells
+along every edge are about the rim wide, so the cost grows as the rim falls
+(n = 2 at Ψ = 90°: 6.6 s at a rim of 1e-3 b, 64.6 s at 1e-4 b). A sliver
+shallower than ε + rim is not counted, so the search of the rims to ``rim``
+finds every component that is counted, and a sliver it may miss is left out
+on every grid alike. (Before, every component of E_ε was counted and the
+rims were searched to 100 ε: n = 10 at Ψ = 169.2° counted an axis strip
+7.4e-4 b deep on some base grids and not on others.)
 """
 
 from __future__ import annotations
@@ -105,7 +106,7 @@ from .shape import DEFAULT_SEGMENTS
 __all__ = ["RESOLUTION", "Certified", "CertifiedComponent", "certified_components"]
 
 RESOLUTION = 1e-5  # b: the default ε, the erosion length of the count
-RIM_RATIO = 100  # rims of candidates are searched for hidden components to this many ε at most (1e-3 b at ε)
+RIM = 1e-3  # b: the default rim, at least (a component is counted from ε + rim deep; rims are searched to it)
 BASE = 64  # cells along each side of the reach box before refinement
 STEPS_PER_VERTEX = 4  # intervals of φ a depth certificate may use at first, per vertex of the longer polyline
 MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after retries at four times as many
@@ -225,10 +226,11 @@ class CertifiedComponent:
 class Certified:
     """The count of excluded components at resolution ``resolution`` (b), as a bracket ``low`` ≤ count ≤ ``high``.
 
-    ``rim`` (b): the coarsest length to which rims beside other components
-    were searched: every component deeper than ``resolution + rim`` is
-    counted, a shallower one may be missed. ``floor`` (b): the smallest cell
-    side. ``components``: one :class:`CertifiedComponent` per candidate,
+    ``rim`` (b): a component is counted where it reaches ``resolution +
+    rim`` in depth (and rims are searched to ``rim``, so none that deep is
+    missed); shallower ones are listed, not counted. ``floor`` (b): the
+    smallest cell side. ``components``: one :class:`CertifiedComponent` per
+    candidate,
     deepest first."""
 
     low: int
@@ -271,9 +273,9 @@ class Certified:
 
     @property
     def searched(self) -> str:
-        """What the rim search leaves out, in words (the search's own length, beside ε)."""
-        return (f"  (rims searched to {self.rim:.1e} b: a component less than {self.resolution + self.rim:.1e} b deep "
-                "inside another's undecided rim may be missed; --rim or rim= searches finer)")  # fmt: skip
+        """What the count leaves out, in words (the rim beside ε)."""
+        return (f"  (counted: components at least {self.resolution + self.rim:.1e} b deep (resolution + rim, rim "
+                f"{self.rim:.1e} b); shallower ones are not counted; --rim or rim= lowers the rim)")  # fmt: skip
 
     def __str__(self):
         lines = [f"excluded components at resolution {self.resolution:.1e} b: {self.headline}", self.searched]
@@ -310,8 +312,10 @@ def certified_components(
     """The excluded components of a pair at resolution ``resolution`` (b), certified on both sides, exact in φ.
 
     ``particle``/``other`` as for :func:`sesp.scan` (a Pair is taken as is);
-    ``segments`` per polyline; ``rim`` (b; default 100 ``resolution``): how
-    finely the rims of components are searched for hidden ones; ``base``:
+    ``segments`` per polyline; ``rim`` (b; default 1e-3 b, or ``resolution``
+    or the polylines' departure from the curves where either is larger): a
+    component is counted where it is at least ``resolution + rim`` deep (a
+    lower rim counts shallower components and costs more); ``base``:
     cells along each side at first. See the module text for the definition.
 
     Examples
@@ -324,7 +328,7 @@ def certified_components(
     """
     check_resolution(resolution, rim, base)
     pair = as_pair(particle, other, segments=segments)
-    rim = max(resolution, pair.departure) if rim is None else rim
+    rim = max(resolution, RIM, pair.departure) if rim is None else rim
     return _Engine(pair, resolution, rim, int(base)).run(progress)
 
 
@@ -498,10 +502,25 @@ class _Engine:
             gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]), k=near)
             reach = gap.reshape(-1, near) - allowed[k.reshape(-1, near), 2]
             hi[far] = np.minimum(hi[far], np.maximum(0.0, reach.min(axis=1) + L.h[far]))
+        if self.mirror:  # the depth is symmetric: each bound holds at the mirror image too (and ties stay alike)
+            hi = np.minimum(hi, hi[self._images(L)])
         status = np.full(len(L.x), UNDECIDED)
         status[L.deep] = IN
         status[(status == UNDECIDED) & (hi < self.eps)] = OUT
         return status, hi, ea, eb
+
+    def _images(self, L):
+        """Per leaf: the index of its mirror image about the x axis (itself where that is no leaf)."""
+
+        def key(j):
+            return (L.level << 50) | (L.i << 25) | j
+
+        keys = key(L.j)
+        order = np.argsort(keys)
+        flipped = key(self.base * (1 << L.level) - 1 - L.j)
+        at = np.minimum(np.searchsorted(keys, flipped, sorter=order), len(keys) - 1)
+        image = order[at]
+        return np.where(keys[image] == flipped, image, np.arange(len(keys)))
 
     def run(self, progress=False):
         start = time.perf_counter()
@@ -543,9 +562,18 @@ class _Engine:
         root = np.maximum(U, 0)
         depth, top = self._depths(L, status, U), self._tops(hi, U)
         shallow = (U >= 0) & (top[root] < self.bar)  # in a candidate proved shallower than ε + rim: not counted
-        unsure = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar)  # may hold the deep point
+        for r in np.unique(U[(U >= 0) & ~shallow & (depth[root] < self.bar)]):
+            if r in self.best:  # not proved that deep at the leaves tried: search for a deeper point from the best
+                depth[r] = self._deepest_cached(L, self.best[r], depth[r])
+        # a leaf that may be that deep, split where its children's bounds may fall below ε + rim: the bound at
+        # a child's centre is at least the parent's less h (the depth is 1-Lipschitz)
+        unsure = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar) & (hi - 2 * L.h < self.bar)
         on_rim = und & ~shallow & (hi >= self.bar)
-        on_rim[on_rim] = ~self._searched(L, inn, on_rim, np.full(int(on_rim.sum()), self.rim))
+        searched = np.zeros(len(L.x), bool)
+        searched[on_rim] = self._searched(L, inn, on_rim, np.full(int(on_rim.sum()), self.rim))
+        if self.mirror:  # a leaf shown searched shows its mirror image searched too (nearest disks may tie)
+            searched |= searched[self._images(L)]
+        on_rim &= ~searched
         above_floor = L.h * math.sqrt(2.0) > self.floor
         split = ((between | empty) & ~shallow | on_rim | unsure) & above_floor
         retry = und & L.ran_out & (L.steps < self.most_steps)
@@ -692,6 +720,13 @@ class _Engine:
             lo, hi = (mid, hi) if ok == 1 else (lo, mid)
         return lo
 
+    def _deepest_cached(self, L, k, depth):
+        """:meth:`_deepest` from leaf k, once per leaf."""
+        key = ("deepest", L.level[k], L.i[k], L.j[k])
+        if key not in self.depth_cache:
+            self.depth_cache[key] = self._deepest(L, k, depth)
+        return self.depth_cache[key]
+
     def _deepest(self, L, k, depth):
         """b: the depth proved at leaf k's centre, raised by a pattern search from it (16 directions, steps from
         half that depth, halved ten times, at most 8 moves each): the inscribed radius of the component, from
@@ -766,9 +801,13 @@ class _Engine:
         roots, first = np.unique(U[member], return_index=True)
         departure = self.pair.departure  # b; measured on the dense arc table: once, not per component
         found = []
+        kept = []
         for r, m in zip(roots, np.split(member, first[1:])):
             parts = len(np.unique(seed[m][seed[m] >= 0]))
             inn = m[status[m] == IN]
+            if top[r] < self.bar and not len(inn):
+                continue  # shallow, and no cell of it certified in E_ε: nothing to list
+            kept.append(r)
             box = (float(L.x[m].min()), float(L.x[m].max()), float(L.y[m].min()), float(L.y[m].max()))
             found.append(CertifiedComponent(
                 parts, float(depth[r]), float(area[inn].sum()), float(area[m].sum()), box, departure,
@@ -776,7 +815,7 @@ class _Engine:
             ))  # fmt: skip
         order = np.argsort([-c.depth for c in found], kind="stable")
         rank = np.full(len(L.x), -1)
-        rank[roots[order]] = np.arange(len(roots))
+        rank[np.array(kept, dtype=np.int64)[order]] = np.arange(len(kept))
         cells = {
             "x": L.x, "y": L.y, "side": L.h * math.sqrt(2.0), "status": status,
             "component": np.where(U >= 0, rank[np.maximum(U, 0)], -1),

@@ -233,8 +233,8 @@ def _add_topology(sub):
         metavar="EPS",
         help="count the components of the excluded set eroded by EPS, b (default 1e-5)",
     )
-    p.add_argument("--rim", type=float, default=None, metavar="B", help="search the rims of components for "
-                   "hidden ones this finely, b (default 100 EPS; finer costs more)")  # fmt: skip
+    p.add_argument("--rim", type=float, default=None, metavar="B", help="count components at least EPS + B "
+                   "deep, b (default the polylines' departure, at least EPS; lower costs more)")  # fmt: skip
     p.add_argument("--base", type=int, default=None, help="cells along each side at first (default 64)")
     p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees, "
                    "16 widths (default 4.8)")  # fmt: skip

@@ -170,9 +170,10 @@ class Transitions:
         if self.label:
             lines.append(self.label)
         lines.append(f"excluded components over the opening, at resolution {self.resolution:.1e} b (degrees)")
-        searched = [f for f in self.counts.values() if f.low]  # with a certified part: only those have rims
-        if searched:
-            lines.append(max(searched, key=lambda f: f.rim).searched)  # the coarsest search: true of all
+        if self.counts:
+            rims = [f.rim for f in self.counts.values()]  # the polylines' departure changes with the opening
+            lines.append(f"  (counted: components at least resolution + rim deep, rim {min(rims):.1e}.."
+                         f"{max(rims):.1e} b over the openings; shallower ones are listed, not counted)")  # fmt: skip
         lines.append(f"{'from':>9} {'to':>9} {'count':>6}")
         first = sorted(self.runs_of())
         for a, b, found in first:
