@@ -6,9 +6,8 @@ them, are identical on every base grid given: for the certain changes (the
 counts on the two sides have no value in common) and for all of them (also
 where a count becomes undecided, which depends on the cells). It also says
 whether the grids contradict each other: at every opening counted on two
-grids, their brackets must share a value (two decided counts must be equal)
-unless a component shallower than ε + rim lies in another's rim, which one
-grid may find and another miss (:attr:`sesp.Certified.rim`).
+grids, their brackets must share a value (two decided counts must be equal:
+the count does not depend on the cells, :mod:`sesp.certified`).
 
 With several ``--workers`` each table is run once per number of worker processes, and the script says
 whether the tables are identical and how the times compare (the counts do not depend on them).

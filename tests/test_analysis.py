@@ -42,7 +42,7 @@ def test_analysis_equals_scan_summary_and_components():
     found = certified_components(ASP, resolution=1e-2, segments=24)
     assert (int(ds.excluded_components), int(ds.excluded_components_high)) == (found.low, found.high) == (2, 2)
     assert ds.component_depth.values[:2].tolist() == [c.depth for c in found.components]
-    assert ds.excluded_components.attrs["resolution"] == 1e-2
+    assert ds.excluded_components.attrs["resolution"] == 1e-2 and float(ds.component_rim) == found.rim == 1e-2
     assert ds.attrs["allowed_sha256"] == field.attrs["allowed_sha256"]
 
 

@@ -60,7 +60,7 @@ def test_on_the_lattice_the_asp_pinch_joins_lens_and_body_which_is_why_the_count
 @pytest.mark.slow
 def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(monkeypatch):
     """At ε = 1e-2 b (the rim, then, as the polylines depart from the curves by less) the lens (inscribed radius
-    1 − sin(Ψ/2)) is counted while it is deeper than ε + rim = 2ε, so until Ψ = 2 asin(1 − 2ε) = 157.1°; the
+    1 − sin(Ψ/2)) is counted while it is deeper than ε + rim = 2ε, so until Ψ = 2 asin(1 − 2ε) = 157.0°; the
     body, thinner still near π, ends by π; nothing is excluded past π. The bisections' progress bar ends at
     its total (it grows where a step holds two changes)."""
     bars = []

@@ -114,7 +114,8 @@ def analyze(
           ``entangled_area(phi)`` and ``mean_entangled_area`` (b²) (runs the
           entanglement test);
         * ``"topology"``: the certified count of excluded components at
-          ``resolution`` (:func:`sesp.certified_components`, exact in φ, no
+          ``resolution`` that reach ``resolution + rim`` deep (``component_rim``,
+          b; :func:`sesp.certified_components`, exact in φ, no
           lattice): ``excluded_components`` and ``excluded_components_high``
           (the bracket; equal where decided), and per component, deepest
           first, NaN-padded to ``COMPONENTS_KEPT``: ``component_depth`` (b, a
@@ -293,11 +294,13 @@ def _add_components(ds, pair, resolution):
     found = certified_components(pair, resolution=resolution, base=BASE)
     kept = found.components[:COMPONENTS_KEPT]
     attrs = {"units": "1", "resolution": resolution, "resolution_units": "b"}
-    ds["excluded_components"] = xr.DataArray(
-        found.low, attrs={**attrs, "long_name": "excluded components at the resolution (low end of the bracket)"}
-    )
+    said = "excluded components at the resolution, at least resolution + rim deep"
+    ds["excluded_components"] = xr.DataArray(found.low, attrs={**attrs, "long_name": f"{said} (bracket's low end)"})
     ds["excluded_components_high"] = xr.DataArray(
-        found.high, attrs={**attrs, "long_name": "excluded components at the resolution (high end of the bracket)"}
+        found.high, attrs={**attrs, "long_name": f"{said} (bracket's high end)"}
+    )
+    ds["component_rim"] = xr.DataArray(
+        found.rim, attrs={**LENGTH, "long_name": "rim: a component is counted from resolution + rim deep"}
     )
     for name, unit, what, long_name in (
         ("component_depth", LENGTH, "depth", "certified depth (inscribed radius, lower bound) of each component"),

@@ -565,7 +565,8 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     panel per component (up to six), zoomed to its bounding box with y
     stretched to fill the panel, so strips far thinner than they are long are
     seen. Solid cells are certified deeper than the resolution; pale cells are
-    undecided (within the resolution of the rim). ``title`` names the particle
+    undecided. A component shallower than resolution + rim is drawn as the
+    others, its legend saying it is not counted. ``title`` names the particle
     and opening.
     """
     import matplotlib
@@ -590,7 +591,7 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     for k, comp in enumerate(shown):
         color = COMPONENT_COLORS[k % len(COMPONENT_COLORS)]
         label = f"{k + 1}: depth ≥ {comp.depth:.2g} b, area {comp.area:.2g} b$^2$"
-        if not comp.parts:
+        if not comp.area:
             label = f"{k + 1}: no cell certified, area ≤ {comp.area_bound:.2g} b$^2$"
         if comp.tag():
             label += f" ({comp.tag()})"

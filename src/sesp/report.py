@@ -59,7 +59,8 @@ def _topology_line(ds) -> str:
     """The certified count of excluded components (a bracket where undecided) and its resolution."""
     low, high = int(ds.excluded_components), int(ds.excluded_components_high)
     count = f"{low}" if low == high else f"{low}-{high} (undecided)"
-    return f"topology : {count} excluded components at resolution {ds.excluded_components.attrs['resolution']:g} b"
+    said = f"topology : {count} excluded components at resolution {ds.excluded_components.attrs['resolution']:g} b"
+    return said + (f", at least resolution + {float(ds.component_rim):g} b deep" if "component_rim" in ds else "")
 
 
 def _point_label(point, swept) -> str:

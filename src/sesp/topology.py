@@ -127,21 +127,22 @@ class Transition:
 def _described(component) -> str:
     """The deepest such component: its certified depth (or that none of it is certified) and where it lies."""
     x0, x1, y0, y1 = component.box
-    depth = f"{component.depth:.2g} b deep" if component.parts else "undecided (no cell certified)"
+    depth = f"{component.depth:.2g} b deep" if component.area else "undecided (no cell certified)"
     return f"{depth} at x {x0:+.3f}..{x1:+.3f}, y {y0:+.3f}..{y1:+.3f} b"
 
 
 def _unmatched(found: Certified, other: Certified) -> list:
     """The components of ``found`` whose box meets no box of ``other``'s components, or meets one that meets
-    another of ``found``'s (a join or a split), deepest first."""
+    another of ``found``'s (a join or a split), deepest first; only those not shown shallower than ε + rim."""
 
     def meets(a, b):
         return a.box[0] <= b.box[1] and b.box[0] <= a.box[1] and a.box[2] <= b.box[3] and b.box[2] <= a.box[3]
 
+    mine, theirs = ([c for c in f.components if not c.shallow] for f in (found, other))  # those that may count
     out = []
-    for c in found.components:
-        partners = [d for d in other.components if meets(c, d)]
-        shared = any(meets(e, d) for d in partners for e in found.components if e is not c)
+    for c in mine:
+        partners = [d for d in theirs if meets(c, d)]
+        shared = any(meets(e, d) for d in partners for e in mine if e is not c)
         if not partners or shared:
             out.append(c)
     return out
