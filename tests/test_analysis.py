@@ -12,6 +12,7 @@ from sesp import (
     analyze,
     certified_components,
     closed_excluded_area,
+    describe,
     excluded_area,
     lattice_excluded_area,
     scan,
@@ -43,6 +44,7 @@ def test_analysis_equals_scan_summary_and_components():
     assert (int(ds.excluded_components), int(ds.excluded_components_high)) == (found.low, found.high) == (2, 2)
     assert ds.component_depth.values[:2].tolist() == [c.depth for c in found.components]
     assert ds.excluded_components.attrs["resolution"] == 1e-2 and float(ds.component_rim) == found.rim == 1e-2
+    assert "2 excluded components at resolution 0.01 b, at least resolution + 0.01 b deep" in describe(ds)
     assert ds.attrs["allowed_sha256"] == field.attrs["allowed_sha256"]
 
 

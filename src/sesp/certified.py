@@ -77,7 +77,7 @@ allowed finger needs only about 3ε across (ε, finger, ε, sliver, ε), so it
 fits inside one cell and between the points at which certificates are made;
 only cells about ε wide along the whole rim could rule it out. The cells
 along every edge are about the rim wide, so the cost grows as the rim falls
-(n = 2 at Ψ = 90°: 6.6 s at a rim of 1e-3 b, 64.6 s at 1e-4 b). A sliver
+(n = 2 at Ψ = 90°: 4.3 s at a rim of 1e-3 b, 40.9 s at 1e-4 b). A sliver
 shallower than ε + rim is not counted, so the search of the rims to ``rim``
 finds every component that is counted, and a sliver it may miss is left out
 on every grid alike. (Before, every component of E_ε was counted and the
@@ -205,15 +205,15 @@ class CertifiedComponent:
 
     def why(self) -> str:
         if self.shallow:
-            said = f"not counted: at most {self.top:.1e} b deep, less than resolution + rim ({self.bar:.1e} b)"
+            said = f"not counted: at most {self.top:.3e} b deep, less than resolution + rim ({self.bar:.3e} b)"
         elif not self.parts:
             said = "no cell of it is certified deeper than the resolution: at most about the resolution deep, or none"
         elif self.parts > 1:
             said = f"{self.parts} certified parts whose joins were not decided down to the floor"
         elif not self.counted:
             said = (
-                f"{self.depth:.1e} to {self.top:.1e} b deep: whether it reaches resolution + rim "
-                f"({self.bar:.1e} b) was not decided down to the floor"
+                f"{self.depth:.3e} to {self.top:.3e} b deep: whether it reaches resolution + rim "
+                f"({self.bar:.3e} b) was not decided down to the floor"
             )
         else:
             said = "one component"
@@ -590,8 +590,7 @@ class _Engine:
         candidate not tried before, along RAYS directions, the allowed point nearest the leaf's centre that a
         bisection of PROBES halvings meets, on rays as long as twice the bound at the centre that end in an
         allowed point. A split leaf's children are excluded centres, so splitting alone does not bring the
-        allowed points nearer (n = 10 at 168.6°: the lens's bound stayed 1.49e-3 b, half as much again as its
-        depth)."""
+        allowed points nearer, and a bound may stay far above the depth (benchmarks/README.md)."""
         if self.mirror:  # the images below the axis come as mirror images of the points found above it
             tall = tall & (L.y >= 0)
         k = np.nonzero(tall & ~L.allowed)[0]
