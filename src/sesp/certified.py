@@ -113,7 +113,8 @@ MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after ret
 CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
 TURNS = (0.1, 0.03, 0.01, 0.003, 0.001)  # rad: steps of the search for a larger clearance (cost only)
 SUBCELLS = 4  # a rim leaf is shown searched on this many squares per side, each inside one disk (cost only)
-NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf (cost only)
+NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf; and the allowed points that
+# bound a leaf's depth from above (cost only)
 TALLEST = 16  # leaves per candidate from which allowed points are sought at each refinement (cost only)
 RAYS = 32  # ... along this many directions (cost only)
 PROBES = 12  # ... each bisected this many times (cost only)
@@ -550,8 +551,9 @@ class _Engine:
 
     def _to_refine(self, L, status, hi, ea, eb):
         """The leaves to split and those to certify again with more intervals, the undecided leaves between two
-        certified parts, the seed (certified part) of each in-leaf and the candidate component (root) of each
-        leaf not out."""
+        certified parts, the seed (certified part) of each in-leaf that may be counted and the candidate
+        component (root) of each leaf not out. Allowed points are sought near the tallest leaves of candidates
+        neither counted nor shallow (:meth:`_seek_allowed`), for the next classification."""
         und, inn = status == UNDECIDED, status == IN
         U = cell_kernels.components(status != OUT, ea, eb)
         near = cell_kernels.adjacency(len(L.x), ea, eb)
@@ -559,11 +561,11 @@ class _Engine:
         has_part = np.zeros(len(L.x), bool)
         has_part[U[inn]] = True
         seed = np.where(inn, parts, -1)
-        capable = self._capable(seed, und, hi, ea, eb)
         # parts that may each be a counted component of their own: two in one candidate are refined between
-        between = und & cell_kernels.corridors(np.where(capable[np.maximum(seed, 0)], seed, -1), und | inn, *near, 2)
-        empty = und & ~has_part[np.maximum(U, 0)]
+        seed = np.where(self._capable(seed, und, hi, ea, eb)[np.maximum(seed, 0)], seed, -1)
+        between = und & cell_kernels.corridors(seed, und | inn, *near, 2)
         root = np.maximum(U, 0)
+        empty = und & ~has_part[root]
         depth, top = self._depths(L, status, U), self._tops(hi, U)
         shallow = (U >= 0) & (top[root] < self.bar)  # in a candidate proved shallower than ε + rim: not counted
         for r in np.unique(U[(U >= 0) & ~shallow & (depth[root] < self.bar)]):
@@ -571,8 +573,9 @@ class _Engine:
                 depth[r] = self._deepest_cached(L, self.best[r], depth[r])
         # a leaf that may be that deep, split where its children's bounds may fall below ε + rim: the bound at
         # a child's centre is at least the parent's less h (the depth is 1-Lipschitz)
-        unsure = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar) & (hi - 2 * L.h < self.bar)
-        self._seek_allowed(L, hi, U, (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar))
+        tall = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar)
+        unsure = tall & (hi - 2 * L.h < self.bar)
+        self._seek_allowed(L, hi, U, tall)
         on_rim = und & ~shallow & (hi >= self.bar)
         searched = np.zeros(len(L.x), bool)
         searched[on_rim] = self._searched(L, inn, on_rim, np.full(int(on_rim.sum()), self.rim))
@@ -582,7 +585,7 @@ class _Engine:
         above_floor = L.h * math.sqrt(2.0) > self.floor
         split = ((between | empty) & ~shallow | on_rim | unsure) & above_floor
         retry = und & L.ran_out & (L.steps < self.most_steps)
-        return split & ~retry, retry, between, np.where(capable[np.maximum(seed, 0)], seed, -1), U
+        return split & ~retry, retry, between, seed, U
 
     def _seek_allowed(self, L, hi, U, tall):
         """Allowed points near the ``tall`` leaves (in candidates neither counted nor shallow, their bounds
