@@ -698,9 +698,9 @@ def _longest(curves, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, 
 
 @njit(**JIT)
 def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips, lengthen_apart=True):
-    """1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module notes) within
-    ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` < ``r``; 0: not
-    asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
+    """(status, φ): status 1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module
+    notes) within ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` <
+    ``r``; 0: not asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may still be
     that deep: the certificate is one-sided), or if the walk at ``fallback`` took more than FALLBACK_STEPS
     intervals; −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r`` fails it goes on at
     ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
@@ -711,7 +711,9 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips, lengthen_a
     intervals instead of 24; a try that fails costs a shallow walk). The walk begins at φ = ``start``
     (radians): where the position is least deep there (an orientation allowed nearby), a walk that fails fails
     at once. ``tips``: where no pair of runs is r apart, try two end points of the open curves (:func:`two_tips`).
-    ``lengthen_apart``: False never lengthens a pair that is r apart (for comparison: ``benchmarks/depth_walk.py``)."""
+    ``lengthen_apart``: False never lengthens a pair that is r apart (for comparison: ``benchmarks/depth_walk.py``).
+    φ (radians): where the walk stopped, the orientation at which a walk that fails failed (nearby positions at
+    a like depth fail there too: a walk begun there fails at once)."""
     near1, far1 = np.empty(plain[0].shape[0] - 1), np.empty(plain[0].shape[0] - 1)
     near1h, far1h = np.empty(halved[0].shape[0] - 1), np.empty(halved[0].shape[0] - 1)
     segment_radii(plain[0], tx, ty, near1, far1)
@@ -732,7 +734,7 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips, lengthen_a
             phi += 1e-9
             got = _runs_at(plain, tx, ty, phi, w, boxes2, cross)
         if got[0] < 0 or got[0] > MAX_CROSSINGS:
-            return 0
+            return 0, phi
         ahead, behind, found, longer = _longest(
             plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first, 2 if lengthen else 1
         )
@@ -753,26 +755,26 @@ def cover(plain, halved, tx, ty, r, fallback, max_steps, start, tips, lengthen_a
             r, proved = fallback, 2
             ahead, behind, found, _ = _longest(plain, near1, far1, w, boxes2, cross, got, tx, ty, r, phi, roots, first)
         if not found:
-            return 0
+            return 0, phi
         if first:
             first, first_behind = False, behind
             lengthen = lengthen_apart
         if phi + ahead >= start + TWO_PI - first_behind:
-            return proved
+            return proved, phi
         if proved == 2:
             at_fallback += 1
             if at_fallback > FALLBACK_STEPS:
-                return 0
+                return 0, phi
         phi += ahead + 1e-12  # the interval is closed: its end is certified
-    return -1 if proved == 1 else 0  # out of steps at ``fallback``: nothing proved
+    return (-1 if proved == 1 else 0), phi  # out of steps at ``fallback``: nothing proved
 
 
 @njit(**JIT, parallel=True)
-def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, lengthen, out):
-    """``out[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with ``max_steps[p]``
-    intervals, its walk begun at φ = ``starts[p]``. Each position is written by one thread."""
+def cover_at(plain, halved, xs, ys, rs, fallback, max_steps, starts, tips, lengthen, out, stops):
+    """``out[p]``, ``stops[p]``: :func:`cover` of (xs[p], ys[p]) at depth ``rs[p]`` (else ``fallback``) with
+    ``max_steps[p]`` intervals, its walk begun at φ = ``starts[p]``. Each position is written by one thread."""
     for p in prange(xs.shape[0]):
-        out[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], tips, lengthen)
+        out[p], stops[p] = cover(plain, halved, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], tips, lengthen)
 
 
 def _stored(v):
@@ -805,17 +807,21 @@ def prepared(v1, v2):
     return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, tips=True, lengthen=True):
+def certified_deep(
+    prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, tips=True, lengthen=True, stops=None
+):
     """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
     with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast), trying two end
     points where one pair of runs falls short if ``tips``, lengthening pairs that are r apart if ``lengthen``
-    (:func:`cover`); ``prepared_curves``: :func:`prepared`."""
+    (:func:`cover`); ``prepared_curves``: :func:`prepared`. ``stops``: a (p,) float array to receive the
+    orientation (radians) at which each walk stopped (where it failed, for one that failed), or None."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
     rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
+    where = np.empty(xs.shape[0]) if stops is None else stops
     with small_chunks():
-        cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), bool(lengthen), out)
+        cover_at(*prepared_curves, xs, ys, rs, float(fallback), steps, starts, bool(tips), bool(lengthen), out, where)
     return out
