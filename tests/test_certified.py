@@ -345,6 +345,34 @@ def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     assert np.all(width == 0)
 
 
+def test_the_asps_body_near_pi_is_proved_deep_by_two_end_points():
+    """Near π the ASP's body lies along −x, where the two arcs nearly coincide and cross near both ends of curve
+    1; at Ψ = 177° and t = (−0.04, 0) an end of curve 2 pokes through curve 1 near each of them at φ = 0, and no
+    one pair of runs holds 3e-4 b. Two end points prove 1.7e-3 b; 32 points 0.999 of that from t are excluded
+    exactly in φ, and t + 1.9e-3 b (cos 87°, sin 87°) is allowed: the depth is under 1.9e-3 b. A walk at
+    1.9e-3 b fails, and one begun at the orientation where it failed fails at its first interval."""
+    from sesp.orientations import widest_window
+
+    part = SeSP(n=2, opening=math.radians(177))
+    pair = as_pair(part, segments=256)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    x, y = np.array([-0.04]), np.array([0.0])
+    assert depth_kernels.certified_deep(curves, x, y, 3e-4, 4096, tips=False).tolist() == [0]
+    assert depth_kernels.certified_deep(curves, x, y, 1.7e-3, 4096).tolist() == [1]
+    turns = np.linspace(0, 2 * math.pi, 32, endpoint=False)
+    r = 0.999 * 1.7e-3
+    width, _ = widest_window(part, np.r_[x, x + r * np.cos(turns)], np.r_[y, y + r * np.sin(turns)], segments=256)
+    assert np.all(width == 0)
+    up = math.radians(87)
+    width, _ = widest_window(part, x + 1.9e-3 * math.cos(up), y + 1.9e-3 * math.sin(up), segments=256)
+    assert width[0] > 0
+    # deeper than that the walk fails, and says where: begun there, it fails at its first interval
+    stops = np.zeros(1)
+    assert depth_kernels.certified_deep(curves, x, y, 1.9e-3, 4096, stops=stops).tolist() == [0]
+    assert depth_kernels.certified_deep(curves, x, y, 1.9e-3, 1).tolist() == [-1]  # from φ = 0: out of steps
+    assert depth_kernels.certified_deep(curves, x, y, 1.9e-3, 1, start=stops[0]).tolist() == [0]
+
+
 def test_a_shallow_overlap_of_closed_curves_is_certified_in_a_few_intervals_and_excluded_by_brute_force():
     """Two unit circles (n = 2, Ψ = 0; 128-gons) overlapping about 3e-3 b deep cross twice across a lens about
     one segment long. A pair of runs short on both sides keeps its ends apart only while a vertex of each lies
@@ -446,7 +474,7 @@ def test_a_lens_shallower_than_resolution_plus_rim_is_not_counted(capsys):
     lens = 1 - math.sin(math.radians(172.5) / 2)
     coarse = certified_components(asp, resolution=1e-3, rim=2e-3)
     assert coarse.count == 1 and lens < coarse.resolution + coarse.rim
-    assert f"at least {coarse.resolution + coarse.rim:.1e} b deep (resolution + rim" in str(coarse)
+    assert f"at least {coarse.resolution + coarse.rim:.2e} b deep (resolution + rim" in str(coarse)
     fine = certified_components(asp, resolution=1e-3, rim=1e-3)
     assert fine.count == 2 and lens - 1e-4 < fine.components[1].depth <= lens * (1 + 1e-9)
     # the same on the command line

@@ -102,11 +102,29 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
                  for t in found.changes]  # fmt: skip
     assert [t.certain for t in found.changes] == [not (a & b) for a, b in counts_in]
     assert [r["certain"] for r in record["transitions"]] == [t.certain for t in found.changes]
-    # where the count certainly changes: between decided counts, here across undecided openings (2 -> 1 -> 0)
+    # every opening is decided here (the body too: two end points hold it, :func:`~sesp.kernels.depth.two_tips`),
+    # so every change is certain and there is no separate list of certain changes
+    assert all(f.count is not None for f in found.counts.values())
+    assert [(t.before.count, t.after.count) for t in found.changes] == [(2, 1), (1, 0)]
+    assert [(t.low, t.high) for t in found.certain_changes()] == [(t.low, t.high) for t in found.changes]
+    assert "the count certainly changes" not in str(found) and len(record["certain_changes"]) == 2
+
+
+def test_certain_changes_span_the_undecided_openings_between_decided_counts():
+    """Where undecided openings lie between two decided counts, the count certainly changes somewhere across
+    them: one certain change from the last decided count to the next, wider than the brackets, listed apart."""
+
+    def counted(low, high):
+        return Certified(low, high, 1e-2, 1e-2, 1e-3)
+
+    counts = {0.1: counted(2, 2), 0.2: counted(1, 2), 0.3: counted(1, 1), 0.4: counted(0, 1), 0.5: counted(0, 0)}
+    openings = sorted(counts)
+    changes = [topology.Transition(a, b, counts[a], counts[b]) for a, b in zip(openings, openings[1:])]
+    found = topology.Transitions(counts, changes, 1e-2, 0.1, 0.1)
     certain = found.certain_changes()
-    assert [(t.before.count, t.after.count) for t in certain] == [(2, 1), (1, 0)]
-    assert all(t.certain and t.low >= first.low and t.high <= last.high for t in certain)
-    assert "the count certainly changes" in str(found) and len(record["certain_changes"]) == 2
+    assert [(t.low, t.high, t.before.count, t.after.count) for t in certain] == [(0.1, 0.3, 2, 1), (0.3, 0.5, 1, 0)]
+    assert not any(t.certain for t in changes)  # each bracket's counts overlap
+    assert "the count certainly changes (between decided counts):" in str(found)
 
 
 @pytest.mark.slow

@@ -118,6 +118,8 @@ NEAREST = 6  # ... of the nearest certified and allowed disks of each square's l
 TALLEST = 16  # leaves per candidate from which allowed points are sought at each refinement (cost only)
 RAYS = 32  # ... along this many directions (cost only)
 PROBES = 12  # ... each bisected this many times (cost only)
+DEPTH_RATIO = 1.001  # a depth is proved to within this factor of the largest the certificate proves (cost only)
+SEARCH_RATIO = 1.003  # ... and a search for a deeper point moves where it gains this factor (cost only)
 PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any length > 0 would; far above rounding)
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
 
@@ -278,7 +280,7 @@ class Certified:
     @property
     def searched(self) -> str:
         """What the count leaves out, in words (the rim beside ε)."""
-        return (f"  (counted: components at least {self.resolution + self.rim:.1e} b deep (resolution + rim, rim "
+        return (f"  (counted: components at least {self.resolution + self.rim:.2e} b deep (resolution + rim, rim "
                 f"{self.rim:.1e} b); shallower ones are not counted; --rim or rim= lowers the rim)")  # fmt: skip
 
     def __str__(self):
@@ -468,8 +470,9 @@ class _Engine:
         the cell where it is under ``rim``), where the certificate ran out of intervals, and the centres proved
         excluded (at least ``PROOF_DEPTH`` deep where not deep: no allowed window to look for there). The walks
         around φ begin at ``start`` (radians): an orientation allowed nearby, where a walk that fails fails first.
-        Two end points (:func:`~sesp.kernels.depth.two_tips`) are tried at ε + h only: near the depth they can
-        show they step in ever shorter turns, and the wider disks only save cells (cost)."""
+        Two end points (:func:`~sesp.kernels.depth.two_tips`) are tried at ε + h, not for the wider disks: near
+        the depth they can show they step in ever shorter turns, and the wider disks only save cells (cost). The
+        depths that decide whether a candidate is counted try them too (:meth:`_proved_depth`)."""
         if not len(x):
             return np.zeros(0, bool), np.zeros(0), np.zeros(0, bool), np.zeros(0, bool)
         got = self._cover(x, y, self.eps + h, steps, PROOF_DEPTH, start, tips=True)
@@ -488,9 +491,9 @@ class _Engine:
                 radius[short[ok]] = self.rim
         return deep, radius, ran_out, got > 0
 
-    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0, tips=False):
+    def _cover(self, x, y, r, steps, fallback=0.0, start=0.0, tips=False, stops=None):
         r = np.maximum(r - self.pair.contact, 1e-300)
-        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start, tips)
+        return depth_kernels.certified_deep(self.curves, x, y, r, steps, fallback, start, tips, stops=stops)
 
     def classify(self, L):
         """IN, OUT or UNDECIDED per leaf, with an upper bound on the depth anywhere in it (b)."""
@@ -566,11 +569,11 @@ class _Engine:
         between = und & cell_kernels.corridors(seed, und | inn, *near, 2)
         root = np.maximum(U, 0)
         empty = und & ~has_part[root]
-        depth, top = self._depths(L, status, U), self._tops(hi, U)
+        depth, top = self._depths(L, status, hi, U), self._tops(hi, U)
         shallow = (U >= 0) & (top[root] < self.bar)  # in a candidate proved shallower than ε + rim: not counted
         for r in np.unique(U[(U >= 0) & ~shallow & (depth[root] < self.bar)]):
             if r in self.best:  # not proved that deep at the leaves tried: search for a deeper point from the best
-                depth[r] = self._deepest_cached(L, self.best[r], depth[r])
+                depth[r] = self._deepest_cached(L, self.best[r], depth[r], top[r])
         # a leaf that may be that deep, split where its children's bounds may fall below ε + rim: the bound at
         # a child's centre is at least the parent's less h (the depth is 1-Lipschitz)
         tall = (U >= 0) & ~shallow & (depth[root] < self.bar) & (hi >= self.bar)
@@ -718,8 +721,9 @@ class _Engine:
         cx, cy, reach = (np.ascontiguousarray(np.concatenate(d, axis=1)) for d in zip(*disks))
         return cell_kernels.squares_in_disks(x, y, h, offsets, cx, cy, reach)
 
-    def _depths(self, L, status, U):
-        """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell."""
+    def _depths(self, L, status, hi, U):
+        """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell (below
+        the cell's bound ``hi``)."""
         depth = np.zeros(len(L.x))
         inn = np.nonzero(status == IN)[0]
         if not len(inn):
@@ -732,7 +736,7 @@ class _Engine:
         order = inn[np.lexsort((L.radius[inn], far))[::-1]]
         self.best = {}
         for k in order[_first_per_group(U[order], CANDIDATES)]:
-            got = self._depth_at(L, k)
+            got = self._depth_at(L, k, hi[k])
             if got > depth[U[k]]:
                 depth[U[k]], self.best[U[k]] = got, k
         return depth
@@ -745,43 +749,58 @@ class _Engine:
         np.maximum.at(top, U[member], hi[member])
         return top
 
-    def _depth_at(self, L, k):
-        """b: the largest depth the certificate proves at leaf k's centre, within a factor 1.0009."""
+    def _depth_at(self, L, k, bound):
+        """b: the largest depth the certificate proves at leaf k's centre, within a factor DEPTH_RATIO; ``bound``
+        (b): an upper bound on the depth there."""
         key = (L.level[k], L.i[k], L.j[k])
         if key not in self.depth_cache:
-            self.depth_cache[key] = self._proved_depth(L.x[k], L.y[k], self.eps + L.radius[k])
+            self.depth_cache[key] = self._proved_depth(L.x[k], L.y[k], self.eps + L.radius[k], bound, L.middle[k])[0]
         return self.depth_cache[key]
 
-    def _proved_depth(self, x, y, lo):
-        """b: the largest depth (≥ ``lo``, known proved) the certificate proves at (x, y), within a factor 1.0009."""
-        hi = 2.0 * self.half
-        for _ in range(12):  # geometric bisection
+    def _proved_depth(self, x, y, lo, bound, start):
+        """(depth, φ): the largest depth (b, ≥ ``lo``, known proved) the certificate proves at (x, y), within a
+        factor DEPTH_RATIO, by geometric bisection up to ``bound`` (b, an upper bound on the depth there), and
+        the orientation (radians) at which the last walk that failed failed (else ``start``). Each walk begins
+        at the orientation where the last one failed: one that fails again fails there, at once."""
+        hi = min(bound, 2.0 * self.half) * DEPTH_RATIO  # a little above the bound: a depth at the bound is found
+        stop = np.zeros(1)
+        while hi > lo * DEPTH_RATIO:
             mid = math.sqrt(lo * hi)
-            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]))[0]
-            lo, hi = (mid, hi) if ok == 1 else (lo, mid)
-        return lo
+            ok = self._cover(np.array([x]), np.array([y]), np.array([mid]), np.array([self.most_steps]), 0.0, start,
+                             True, stop)[0]  # fmt: skip
+            if ok == 1:
+                lo = mid
+            else:
+                hi, start = mid, float(stop[0])
+        return lo, start
 
-    def _deepest_cached(self, L, k, depth):
+    def _deepest_cached(self, L, k, depth, top):
         """:meth:`_deepest` from leaf k, once per leaf."""
         key = ("deepest", L.level[k], L.i[k], L.j[k])
         if key not in self.depth_cache:
-            self.depth_cache[key] = self._deepest(L, k, depth)
+            self.depth_cache[key] = self._deepest(L, k, depth, top)
         return self.depth_cache[key]
 
-    def _deepest(self, L, k, depth):
+    def _deepest(self, L, k, depth, top):
         """b: the depth proved at leaf k's centre, raised by a pattern search from it (16 directions, steps from
         half that depth, halved ten times, at most 8 moves each): the inscribed radius of the component, from
-        below."""
-        x, y, step = L.x[k], L.y[k], depth / 2
+        below. ``top`` (b): an upper bound on the depth anywhere in the component (a point proved deeper than
+        the step lies in the same component). The walks begin where the last one failed (:meth:`_proved_depth`)."""
+        x, y, step, start = L.x[k], L.y[k], depth / 2, L.middle[k]
         turns = np.linspace(0.0, 2.0 * math.pi, 16, endpoint=False)
+        stops = np.zeros(16)
         for _ in range(10):
             for _ in range(8):
+                if depth * DEPTH_RATIO >= top:
+                    return depth
                 xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
-                deeper = self._cover(xs, ys, np.full(16, depth * 1.001), np.full(16, self.most_steps)) == 1
+                r = np.full(16, depth * SEARCH_RATIO)
+                deeper = self._cover(xs, ys, r, np.full(16, self.most_steps), 0.0, start, True, stops) == 1
                 if not deeper.any():
+                    start = float(stops[0])
                     break
                 x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]
-                depth = self._proved_depth(x, y, depth * 1.001)
+                depth, start = self._proved_depth(x, y, depth * SEARCH_RATIO, top, start)
             step /= 2
         return depth
 
@@ -834,9 +853,9 @@ class _Engine:
 
     def _result(self, L, status, hi, U, seed):
         area = (L.h * math.sqrt(2.0)) ** 2
-        depth, top = self._depths(L, status, U), self._tops(hi, U)
+        depth, top = self._depths(L, status, hi, U), self._tops(hi, U)
         for root, k in self.best.items():
-            depth[root] = self._deepest_cached(L, k, depth[root])
+            depth[root] = self._deepest_cached(L, k, depth[root], top[root])
         member = np.nonzero(U >= 0)[0]
         member = member[np.argsort(U[member], kind="stable")]  # the leaves of each candidate, one run per root
         roots, first = np.unique(U[member], return_index=True)
