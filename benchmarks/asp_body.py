@@ -12,9 +12,12 @@ arcs nearly coincide: at each position t = (x, 0) on the axis this prints
 
 each a bisection, and, per opening, the largest of each over the positions
 tried. The count (``sesp topology``) counts the body while it is at least
-ε + rim = 1.01e-3 b deep.
+ε + rim = 1.01e-3 b deep. ``--intervals`` also prints, at that position, how
+many intervals of φ a walk needs at 0.5, 0.9 and 0.99 of the proved depth, and
+at 1.01 of it how many a walk from φ = 0 takes to fail and how many one begun
+where that one failed.
 
-    python benchmarks/asp_body.py [--openings 176 177 177.9 178.2] [--positions 24]
+    python benchmarks/asp_body.py [--openings 176 177 177.9 178.2] [--positions 24] [--intervals]
 """
 
 import argparse
@@ -59,11 +62,32 @@ def proved(curves, x, y, tips):
     return lo
 
 
+def intervals(curves, x, r, start=0.0):
+    """The fewest intervals of φ with which the walk at depth r (b) from ``start`` ends (proved or failed)."""
+    lo, hi = 1, 4096
+    while lo < hi:
+        mid = (lo + hi) // 2
+        got = depth_kernels.certified_deep(curves, np.array([x]), np.array([0.0]), r, mid, start=start)[0]
+        lo, hi = (lo, mid) if got != -1 else (mid + 1, hi)
+    return lo
+
+
+def walks(curves, x, depth):
+    """Intervals needed at 0.5, 0.9 and 0.99 of ``depth``, and to fail at 1.01 of it from φ = 0 and from where
+    that walk failed."""
+    stops = np.zeros(1)
+    depth_kernels.certified_deep(curves, np.array([x]), np.array([0.0]), 1.01 * depth, 4096, stops=stops)
+    return [intervals(curves, x, f * depth) for f in (0.5, 0.9, 0.99, 1.01)] + [
+        intervals(curves, x, 1.01 * depth, float(stops[0]))
+    ]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--openings", type=float, nargs="+", default=[176.0, 177.0, 177.9, 178.2], help="degrees")
     ap.add_argument("--positions", type=int, default=24, help="positions along −x, up to the body's end")
     ap.add_argument("--rays", type=int, default=64)
+    ap.add_argument("--intervals", action="store_true", help="intervals of φ the walks need at the best position")
     args = ap.parse_args()
     print(f"machine: {machine()}; {SEGMENTS} segments\n")
     rows = []
@@ -81,6 +105,10 @@ def main():
             if got[0] > best[1]:
                 best = (x, *got, nearest_allowed(part, x, 0.0, args.rays, 4 * got[0]))
         x, with_tips, pair_only, rays = best
+        if args.intervals:
+            at = walks(curves, x, with_tips)
+            print(f"{degrees:g} deg, x {x:+.4f} b: intervals at 0.5, 0.9, 0.99 of the proved depth: {at[:3]}; "
+                  f"to fail at 1.01: {at[3]} from 0, {at[4]} from where that walk failed", flush=True)  # fmt: skip
         rows.append((f"{degrees:g}", f"{x:+.4f}", f"{rays:.3e}", f"{pair_only:.3e}", f"{with_tips:.3e}",
                      f"{with_tips / rays:.3f}", f"{time.perf_counter() - start:.1f}"))  # fmt: skip
     table(rows, ["opening (deg)", "x (b)", "rays (b)", "pair (b)", "proved (b)", "proved/rays", "s"])
