@@ -202,14 +202,30 @@ def test_the_command_line_scan_writes_the_file_python_writes(tmp_path, capsys):
 def test_topology_help_states_the_defaults_the_engine_uses():
     """The parser does not import the engine (start-up stays fast): its help text names the defaults, which
     must be the engine's."""
-    from sesp.certified import BASE, RESOLUTION
+    from sesp.certified import BASE, RESOLUTION, RIM
     from sesp.cli import build_parser
     from sesp.topology import STEP, WIDTH
 
     (sub,) = [a for a in build_parser()._actions if hasattr(a, "choices") and a.choices and "topology" in a.choices]
-    stated = {a.dest: float(re.search(r"\(default ([\d.e-]+)\)", a.help)[1]) for a in sub.choices["topology"]._actions
-              if a.dest in ("resolution", "base", "step", "width")}  # fmt: skip
-    assert stated == {"resolution": RESOLUTION, "base": BASE, "step": math.degrees(STEP), "width": math.degrees(WIDTH)}
+    stated = {a.dest: float(re.search(r"\(default ([\d.e-]+)[,)]", a.help)[1]) for a in sub.choices["topology"]._actions
+              if a.dest in ("resolution", "rim", "base", "step", "width")}  # fmt: skip
+    assert stated == {"resolution": RESOLUTION, "rim": RIM, "base": BASE, "step": math.degrees(STEP),
+                      "width": math.degrees(WIDTH)}  # fmt: skip
+
+
+def test_the_compile_notice_names_each_command_s_own_kernels(tmp_path, monkeypatch):
+    """The notice "compiling numba kernels" is shown until every kernel module the command uses is cached:
+    `sesp topology` does not compile the overlap kernels of a scan, and the reverse."""
+    import numba
+
+    from sesp.cli import _kernels_cached
+
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+    assert not _kernels_cached(["depth"])
+    (tmp_path / "sesp_kernels").mkdir()
+    (tmp_path / "sesp_kernels" / "depth.cover-12.py311.nbi").touch()
+    assert _kernels_cached(["depth"])
+    assert not _kernels_cached(["depth", "overlap"])
 
 
 STAPLE_ROWS = "-0.5 0.5\n-0.5 -0.5\n0.5 -0.5\n0.5 0.5\n"

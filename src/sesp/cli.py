@@ -15,19 +15,20 @@ log = logging.getLogger("sesp")
 USER_ERRORS = (ValueError, MemoryError, OSError, KeyError)
 
 
-def _kernels_cached() -> bool:
-    """True when numba's on-disk cache holds compiled kernels for this install."""
+def _kernels_cached(modules) -> bool:
+    """True when numba's on-disk cache holds compiled kernels of each of ``modules`` (names in
+    :mod:`sesp.kernels`) for this install."""
     import numba
 
     from . import kernels
 
-    if numba.config.CACHE_DIR:
-        return any(Path(numba.config.CACHE_DIR).rglob("overlap.*.nbi"))
-    return any((Path(kernels.__file__).parent / "__pycache__").glob("overlap.*.nbi"))
+    where = Path(numba.config.CACHE_DIR) if numba.config.CACHE_DIR else Path(kernels.__file__).parent / "__pycache__"
+    return all(any(where.rglob(f"{m}.*.nbi")) for m in modules)
 
 
-def _announce_compile():
-    if not _kernels_cached():
+def _announce_compile(*modules):
+    """Say so where the kernels of ``modules`` (the command's own) are not compiled yet."""
+    if not _kernels_cached(modules):
         print("sesp: compiling numba kernels (first run only, about a minute)...", file=sys.stderr)
 
 
@@ -84,7 +85,7 @@ def _cmd_scan(args) -> int:
 
     particle = _particle_from_args(args)
     grid = Grid(args.nx, args.ny, args.nphi)
-    _announce_compile()
+    _announce_compile("overlap", "hull")
     ds = scan(
         particle, grid, segments=args.segments, engine=args.engine, crossings=args.crossings, progress=not args.quiet
     )
@@ -133,7 +134,7 @@ def _cmd_area(args) -> int:
     from .report import area_text
 
     particle = _particle_from_args(args)
-    _announce_compile()
+    _announce_compile("overlap", "scanline")
     ds = excluded_area(
         particle, rtol=args.rtol, segments=args.segments, nphi=args.nphi, rows=args.rows, progress=not args.quiet
     )
@@ -234,7 +235,8 @@ def _add_topology(sub):
         help="count the components of the excluded set eroded by EPS, b (default 1e-5)",
     )
     p.add_argument("--rim", type=float, default=None, metavar="B", help="count components at least EPS + B "
-                   "deep, b (default the polylines' departure, at least EPS; lower costs more)")  # fmt: skip
+                   "deep, b (default 1e-3, or EPS or the polylines' departure where larger; lower costs "
+                   "more)")  # fmt: skip
     p.add_argument("--base", type=int, default=None, help="cells along each side at first (default 64)")
     p.add_argument("--step", type=float, default=None, help="openings first counted this far apart, degrees, "
                    "16 widths (default 4.8)")  # fmt: skip
@@ -288,7 +290,7 @@ def _cmd_topology(args) -> int:
     step = _positive_degrees("--step", args.step, 1e-4, 360.0)
     width = _positive_degrees("--width", args.width, 1e-6, 90.0)
     family = _shape_from_args(args, 0.0)
-    _announce_compile()
+    _announce_compile("orientations", "depth", "cells")
     found = transitions(
         family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
         rim=args.rim, base=args.base, segments=args.segments, progress=not args.quiet,
@@ -318,7 +320,7 @@ def _topology_at_opening(args) -> int:
     from .certified import certified_components
 
     particle = _shape_from_args(args, args.opening)
-    _announce_compile()
+    _announce_compile("orientations", "depth", "cells")
     found = certified_components(
         particle, resolution=args.resolution, rim=args.rim, base=args.base, segments=args.segments,
         progress=not args.quiet,
@@ -389,7 +391,7 @@ def _cmd_sweep(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     spec = load_spec(args.file, output=args.output)
-    _announce_compile()
+    _announce_compile("overlap", "scanline")
     try:
         target = run(
             args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet
