@@ -428,11 +428,15 @@ def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, 
     _, k = cKDTree(np.column_stack([x[allowed], y[allowed]])).query(np.column_stack([x, y]), k=2)
     nearest = middle[allowed[k[:, 1]]]
     for hint in (nearest, rng.uniform(0, 2 * math.pi, len(x)), np.full(len(x), np.nan)):
-        got = engine._allowed(x, y, hint)
+        got, phi = engine._allowed(x, y, hint)
         assert got[exact].all()
+        assert np.isnan(phi[~got]).all()
         extra = np.nonzero(got & ~exact)[0]
         for q in extra:
-            moved = naive.transform(pair.vertices2, x[q], y[q], hint[q])
+            assert phi[q] == hint[q]
+        # the orientation returned keeps the curves apart: every extra position, and some the windows decided
+        for q in np.concatenate([extra, rng.choice(np.nonzero(got)[0], 12, replace=False)]):
+            moved = naive.transform(pair.vertices2, x[q], y[q], phi[q])
             assert not naive.segment_pairs_meet(pair.vertices1, moved).any()
         if hint is nearest and n == 10:
             assert len(extra) and np.all(x[extra] == 0.0)  # the apex of the wedge, on x = 0

@@ -610,14 +610,13 @@ class _Engine:
         x0, y0 = np.repeat(L.x[k], RAYS), np.repeat(L.y[k], RAYS)
         reach = np.repeat(2.0 * np.maximum(hi[k] - L.h[k], L.h[k]), RAYS)
         dx, dy = reach * np.tile(np.cos(turns), len(k)), reach * np.tile(np.sin(turns), len(k))
-        hint = self._nearest_middle(L, x0 + dx, y0 + dy)
-        ends = self._allowed(x0 + dx, y0 + dy, hint)
+        ends, hint = self._allowed(x0 + dx, y0 + dy, self._nearest_middle(L, x0 + dx, y0 + dy))
         x0, y0, dx, dy, hint = x0[ends], y0[ends], dx[ends], dy[ends], hint[ends]
         lo, up = np.zeros(len(x0)), np.ones(len(x0))  # not allowed at lo (the leaf's centre), allowed at up
-        for _ in range(PROBES):
+        for _ in range(PROBES):  # each probe tries first the orientation allowed at the ray's last allowed point
             t = (lo + up) / 2
-            ok = self._allowed(x0 + t * dx, y0 + t * dy, hint)
-            lo, up = np.where(ok, lo, t), np.where(ok, t, up)
+            ok, phi = self._allowed(x0 + t * dx, y0 + t * dy, hint)
+            lo, up, hint = np.where(ok, lo, t), np.where(ok, t, up), np.where(ok, phi, hint)
         found = np.column_stack([x0 + up * dx, y0 + up * dy])
         if self.mirror:
             found = np.concatenate([found, found * np.array([1.0, -1.0])])
@@ -658,7 +657,7 @@ class _Engine:
         self.probed.update(keys)
         corners = (2 * np.array(keys, dtype=float) - cells) * (self.half / cells)  # exact mirror images, as centres
         x, y = corners[:, 0].copy(), corners[:, 1].copy()
-        ok = self._allowed(x, y, self._nearest_middle(L, x, y))
+        ok, _ = self._allowed(x, y, self._nearest_middle(L, x, y))
         found = corners[ok]
         if self.mirror:
             images = found[found[:, 1] > 0] * np.array([1.0, -1.0])
@@ -674,8 +673,8 @@ class _Engine:
         windows allow is allowed; a hint also finds the apex of a pinch's allowed wedge, where the curves keep
         apart by about 1e-11 b in windows narrower than ANGLE_GAP (1e-9 rad), which the windows close. The first
         two cost a fraction of the windows (at the pinch of n = 10 at Ψ = 1.2°, 7 of 16,663 corners were left
-        to them)."""
-        ok, rest = np.zeros(len(x), bool), np.ones(len(x), bool)
+        to them). Also an allowed orientation (radians) at each allowed position, NaN elsewhere."""
+        ok, rest, phi = np.zeros(len(x), bool), np.ones(len(x), bool), hint.copy()
         tried = np.nonzero(~np.isnan(hint))[0]
         if len(tried):
             ok[tried] = self._clearance(x[tried], y[tried], hint[tried], np.full(len(tried), self.floor)) > 0
@@ -686,8 +685,8 @@ class _Engine:
             proved = self._cover(x[k], y[k], PROOF_DEPTH, depth_kernels.FALLBACK_STEPS, start=start) == 1
             k = k[~proved]
         if len(k):
-            ok[k], _ = self._windows(x[k], y[k])
-        return ok
+            ok[k], phi[k] = self._windows(x[k], y[k])
+        return ok, np.where(ok, phi, np.nan)
 
     def _allowed_points(self, L):
         """(k, 3): x, y (b) and clearance (b) of every allowed point known: leaf centres and ``points``."""
@@ -733,7 +732,7 @@ class _Engine:
             far, _ = cKDTree(np.column_stack([L.x[rest], L.y[rest]])).query(np.column_stack([L.x[inn], L.y[inn]]))
         else:
             far = L.h[inn]
-        order = inn[np.lexsort((L.radius[inn], far))[::-1]]
+        order = inn[np.lexsort((far, hi[inn]))[::-1]]  # the tallest first: the deepest point lies where a bound allows
         self.best = {}
         for k in order[_first_per_group(U[order], CANDIDATES)]:
             got = self._depth_at(L, k, hi[k])
