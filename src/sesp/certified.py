@@ -110,7 +110,7 @@ RIM = 1e-3  # b: the default rim, at least (a component is counted from ε + rim
 BASE = 64  # cells along each side of the reach box before refinement
 STEPS_PER_VERTEX = 4  # intervals of φ a depth certificate may use at first, per vertex of the longer polyline
 MOST_STEPS = 4096  # ... and at most (or the first budget, if larger), after retries at four times as many
-CANDIDATES = 4  # cells per component at which its depth is certified: those farthest from every other leaf
+CANDIDATES = 4  # in-cells per component at which its depth is certified: the tallest (largest bound on the depth)
 TURNS = (0.1, 0.03, 0.01, 0.003, 0.001)  # rad: steps of the search for a larger clearance (cost only)
 SUBCELLS = 4  # a rim leaf is shown searched on this many squares per side, each inside one disk (cost only)
 NEAREST = 6  # ... of the nearest certified and allowed disks of each square's leaf; and the allowed points that
@@ -721,18 +721,20 @@ class _Engine:
         return cell_kernels.squares_in_disks(x, y, h, offsets, cx, cy, reach)
 
     def _depths(self, L, status, hi, U):
-        """Per component root: a certified lower bound on its depth (b), by bisection at its widest deep cell (below
-        the cell's bound ``hi``)."""
+        """Per component root: a certified lower bound on its depth (b), by bisection at its CANDIDATES tallest
+        in-cells (below each cell's bound ``hi``; among equal bounds, those farthest from every other leaf). A
+        point deeper than d lies in a cell whose bound reaches d: a long ridge is searched where it may be deepest
+        (n = 4's island at 171.6°), not where it is widest."""
         depth = np.zeros(len(L.x))
         inn = np.nonzero(status == IN)[0]
         if not len(inn):
             return depth
         rest = np.nonzero(status != IN)[0]
-        if len(rest):  # the in-cells farthest from every other leaf lie near the component's deepest point
+        if len(rest):
             far, _ = cKDTree(np.column_stack([L.x[rest], L.y[rest]])).query(np.column_stack([L.x[inn], L.y[inn]]))
         else:
             far = L.h[inn]
-        order = inn[np.lexsort((far, hi[inn]))[::-1]]  # the tallest first: the deepest point lies where a bound allows
+        order = inn[np.lexsort((far, hi[inn]))[::-1]]
         self.best = {}
         for k in order[_first_per_group(U[order], CANDIDATES)]:
             got = self._depth_at(L, k, hi[k])
