@@ -242,6 +242,16 @@ def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_com
     assert "2 excluded components" not in capsys.readouterr().out  # the text report says it its own way
 
 
+def test_a_map_without_components_says_how_deep_one_was_looked_for():
+    from sesp.plot import certified_map
+
+    found = certified_components(_asp(200), **COARSE)
+    fig = certified_map(found, particle=_asp(200))
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == ["no component at least 2.00e-03 b deep (resolution + rim)"]
+    assert len(fig.axes) == 1
+
+
 @pytest.mark.parametrize(
     "particle, other",
     [(_asp(120), None), (SeSP(n=4, opening=math.radians(100)), Polyline([[-0.6, -0.3], [0.1, 0.2], [0.5, -0.4]]))],

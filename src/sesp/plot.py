@@ -575,8 +575,8 @@ def certified_map(found, *, particle=None, title=None, fig=None):
 
     shown = found.components[:6]  # the deepest
     if fig is None:
-        fig = plt.figure(figsize=(11, 4.8), layout="constrained")
-    grid = fig.add_gridspec(max(1, (len(shown) + 1) // 2), 3, width_ratios=(1.4, 1, 1))
+        fig = plt.figure(figsize=(11, 4.8) if shown else (6, 4.8), layout="constrained")
+    grid = fig.add_gridspec(max(1, (len(shown) + 1) // 2), 3, width_ratios=(1.4, 1, 1)) if shown else fig.add_gridspec()
     main = fig.add_subplot(grid[:, 0])
     if shown:
         boxes = np.array([c.box for c in shown])
@@ -585,9 +585,13 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     if particle is not None:
         draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
     main.set_aspect("equal")
+    main.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))  # a narrow panel: labels that do not touch
     main.set_xlabel("x (b)")
     main.set_ylabel("y (b)")
     handles = []
+    if not shown:  # say what was looked for: a blank map alone reads as a failure
+        bar = found.resolution + found.rim
+        handles.append(Patch(color="none", label=f"no component at least {bar:.2e} b deep (resolution + rim)"))
     for k, comp in enumerate(shown):
         color = COMPONENT_COLORS[k % len(COMPONENT_COLORS)]
         label = f"{k + 1}: depth ≥ {comp.depth:.2g} b, area {comp.area:.2g} b$^2$"
