@@ -13,6 +13,7 @@ __all__ = ["main"]
 log = logging.getLogger("sesp")
 
 USER_ERRORS = (ValueError, MemoryError, OSError, KeyError)
+CERTIFIED_KERNELS = ("orientations", "depth", "cells")  # the kernel modules a certified count compiles
 
 
 def _kernels_cached(modules) -> bool:
@@ -290,7 +291,7 @@ def _cmd_topology(args) -> int:
     step = _positive_degrees("--step", args.step, 1e-4, 360.0)
     width = _positive_degrees("--width", args.width, 1e-6, 90.0)
     family = _shape_from_args(args, 0.0)
-    _announce_compile("orientations", "depth", "cells")
+    _announce_compile(*CERTIFIED_KERNELS)
     found = transitions(
         family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
         rim=args.rim, base=args.base, segments=args.segments, progress=not args.quiet,
@@ -320,7 +321,7 @@ def _topology_at_opening(args) -> int:
     from .certified import certified_components
 
     particle = _shape_from_args(args, args.opening)
-    _announce_compile("orientations", "depth", "cells")
+    _announce_compile(*CERTIFIED_KERNELS)
     found = certified_components(
         particle, resolution=args.resolution, rim=args.rim, base=args.base, segments=args.segments,
         progress=not args.quiet,
