@@ -124,6 +124,17 @@ PROOF_DEPTH = 1e-9  # b: the depth proved at a centre to show it excluded (any l
 OUT, IN, UNDECIDED = 0, 1, 2  # a cell's status
 
 
+def _tallest_per_group(values, groups, most):
+    """Indices (ascending) of the ``most`` largest entries of ``values`` in each value of ``groups``, and of every
+    entry equal to the smallest of those (a tie at the cut is kept, for the caller to break)."""
+    by = np.lexsort((-values, groups))  # by group, largest first
+    g, v = groups[by], values[by]
+    start = np.flatnonzero(np.r_[True, g[1:] != g[:-1]])
+    size = np.diff(np.r_[start, len(g)])
+    cut = np.repeat(v[start + np.minimum(size, most) - 1], size)
+    return np.sort(by[v >= cut])
+
+
 def _first_per_group(groups, most):
     """Indices (ascending) of the first ``most`` entries of each value in ``groups``."""
     by = np.argsort(groups, kind="stable")
@@ -507,7 +518,7 @@ class _Engine:
         allowed = self._allowed_points(L)
         if far.any() and len(allowed):  # the nearest allowed point anywhere bounds the depth too
             near = min(NEAREST, len(allowed))
-            gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]), k=near)
+            gap, k = cKDTree(allowed[:, :2]).query(np.column_stack([L.x[far], L.y[far]]), k=near, workers=-1)
             reach = gap.reshape(-1, near) - allowed[k.reshape(-1, near), 2]
             hi[far] = np.minimum(hi[far], np.maximum(0.0, reach.min(axis=1) + L.h[far]))
         if self.mirror:  # the depth is symmetric: each bound holds at the mirror image too (and ties stay alike)
@@ -712,7 +723,7 @@ class _Engine:
         for cx, cy, cr, extra in ((L.x[inn], L.y[inn], L.radius[inn], rim), (*allowed.T, self.eps + rim)):
             near = min(NEAREST, len(cx))
             if near:
-                _, idx = cKDTree(np.column_stack([cx, cy])).query(np.column_stack([x, y]), k=near)
+                _, idx = cKDTree(np.column_stack([cx, cy])).query(np.column_stack([x, y]), k=near, workers=-1)
                 idx = idx.reshape(len(x), near)
                 disks.append((cx[idx], cy[idx], cr[idx] + extra[:, None]))
         if not disks:
@@ -729,9 +740,12 @@ class _Engine:
         inn = np.nonzero(status == IN)[0]
         if not len(inn):
             return depth
+        inn = inn[_tallest_per_group(hi[inn], U[inn], CANDIDATES)]  # ties at the cut too: broken by ``far``
         rest = np.nonzero(status != IN)[0]
         if len(rest):
-            far, _ = cKDTree(np.column_stack([L.x[rest], L.y[rest]])).query(np.column_stack([L.x[inn], L.y[inn]]))
+            far, _ = cKDTree(np.column_stack([L.x[rest], L.y[rest]])).query(
+                np.column_stack([L.x[inn], L.y[inn]]), workers=-1
+            )
         else:
             far = L.h[inn]
         order = inn[np.lexsort((far, hi[inn]))[::-1]]
@@ -820,7 +834,7 @@ class _Engine:
         donors = np.nonzero(L.allowed)[0]
         if not len(x) or not len(donors):
             return np.full(len(x), np.nan)
-        _, nearest = cKDTree(np.column_stack([L.x[donors], L.y[donors]])).query(np.column_stack([x, y]))
+        _, nearest = cKDTree(np.column_stack([L.x[donors], L.y[donors]])).query(np.column_stack([x, y]), workers=-1)
         return L.middle[donors[nearest]]
 
     def _retry(self, L, retry):
