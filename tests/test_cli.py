@@ -228,6 +228,13 @@ def test_the_compile_notice_names_each_command_s_own_kernels(tmp_path, monkeypat
     assert not _kernels_cached(["depth", "overlap"])
 
 
+def test_a_sweep_keeping_topology_waits_for_the_certified_count_s_kernels_too():
+    from sesp.cli import CERTIFIED_KERNELS, _sweep_kernels
+
+    assert set(CERTIFIED_KERNELS) <= set(_sweep_kernels(("excluded_area", "topology")))
+    assert not set(CERTIFIED_KERNELS) & set(_sweep_kernels(("excluded_area", "classes")))
+
+
 STAPLE_ROWS = "-0.5 0.5\n-0.5 -0.5\n0.5 -0.5\n0.5 0.5\n"
 
 

@@ -386,13 +386,18 @@ def _add_sweep(sub):
     p.set_defaults(func=_cmd_sweep)
 
 
+def _sweep_kernels(keep) -> tuple:
+    """The kernel modules a sweep point compiles: a scan's, and a certified count's where ``keep`` has topology."""
+    return ("overlap", "scanline", *(CERTIFIED_KERNELS if "topology" in keep else ()))
+
+
 def _cmd_sweep(args) -> int:
     from .sweep import load_spec, run
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     spec = load_spec(args.file, output=args.output)
-    _announce_compile("overlap", "scanline")
+    _announce_compile(*_sweep_kernels(spec.keep))
     try:
         target = run(
             args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet
