@@ -285,7 +285,7 @@ def test_ctrl_c_stops_a_local_sweep_within_seconds_and_keeps_what_finished(tmp_p
     done = point_files(tmp_path / "out")
     assert 1 <= len(done) < total
     assert not list((tmp_path / "out").glob(".*.tmp"))
-    run(path, workers=1, progress=False)  # resumes
+    run(path, workers=2, progress=False)  # resumes (each point on one of two workers, as the interrupted run)
     assert len(point_files(tmp_path / "out")) == total
 
 
