@@ -462,12 +462,13 @@ def test_a_rerun_removes_the_temporaries_a_killed_runner_owned(tmp_path):
     ],
 )
 def test_a_reading_process_that_dies_or_hangs_is_a_verdict_on_its_file(tmp_path, monkeypatch, child, verdict):
-    """The probe reads in a child process; whatever ends it (a signal, an exit, a hang) is reported for the
-    file it was reading, and a fresh child reads the next one."""
+    """The probe reads in a child process; whatever ends it once it has started (a signal, an exit, a hang) is
+    reported for the file it was reading, and a fresh child reads the next one (its start not counted in the
+    0.5 s: on a loaded machine the imports alone may take longer)."""
     from sesp import fileprobe
 
     start = fileprobe._start
-    children = iter([[sys.executable, "-c", child], None])
+    children = iter([[sys.executable, "-c", f"print('{json.dumps(fileprobe.READY)}', flush=True); {child}"], None])
 
     def started():
         command = next(children)

@@ -28,7 +28,9 @@ from pathlib import Path
 MAX_EXPANSION = 1100
 EXPANSION_SLACK = 1 << 20  # bytes: small files (headers, coordinates) may exceed the ratio
 
-PROBE_TIMEOUT = 120.0  # seconds for one file
+PROBE_TIMEOUT = 120.0  # seconds for one file, from when the reading process has started
+START_TIMEOUT = 60.0  # seconds for a reading process to start (its imports: about 0.2 s, more on a loaded machine)
+READY = "ready"  # a reading process's first line, once it can read
 
 
 def check_expansion(nc, size: int) -> None:
@@ -67,7 +69,12 @@ def read_everything(path: str) -> None:
 
 
 def _serve() -> None:
-    """The child: one JSON path per line in, one JSON verdict (null, or the error's text) per line out."""
+    """The child: READY once it has imported netCDF4, then one JSON path per line in, one JSON verdict (null,
+    or the error's text) per line out."""
+    import netCDF4  # noqa: F401  (before READY: a file's time is that of reading it)
+
+    sys.stdout.write(json.dumps(READY) + "\n")
+    sys.stdout.flush()
     for line in sys.stdin:
         try:
             read_everything(json.loads(line))
@@ -89,6 +96,22 @@ def _start() -> subprocess.Popen:
     )
 
 
+def _line(child: subprocess.Popen, timeout: float) -> str | None:
+    """The child's next line ("" where it ended), or None where it said nothing within ``timeout`` seconds."""
+    ready, _, _ = select.select([child.stdout], [], [], timeout)
+    return child.stdout.readline() if ready else None
+
+
+def _started() -> subprocess.Popen:
+    """A reading process that has said READY (RuntimeError where none starts within START_TIMEOUT)."""
+    child = _start()
+    said = _line(child, START_TIMEOUT)
+    if said and json.loads(said) == READY:
+        return child
+    _stop(child)
+    raise RuntimeError(f"the netCDF reading process did not start within {START_TIMEOUT:g} s ({sys.executable})")
+
+
 def _death(child: subprocess.Popen) -> str:
     code = child.wait()
     if code < 0:
@@ -108,25 +131,25 @@ def _stop(child: subprocess.Popen) -> None:
 
 
 def probe(paths, timeout: float = PROBE_TIMEOUT) -> dict[Path, str | None]:
-    """Read each file in a separate process; ``{path: None}`` when it read cleanly, else why it failed."""
+    """Read each file in a separate process; ``{path: None}`` when it read cleanly, else why it failed.
+    ``timeout``: seconds to read one file, once the process reading it has started (START_TIMEOUT)."""
     paths = [Path(p) for p in paths]
     verdicts: dict[Path, str | None] = {}
     child = None
     try:
         for path in paths:
             if child is None:
-                child = _start()
+                child = _started()
             try:
                 child.stdin.write(json.dumps(str(path)) + "\n")
                 child.stdin.flush()
             except BrokenPipeError:
                 pass  # the child died: the read below finds out
-            ready, _, _ = select.select([child.stdout], [], [], timeout)
-            line = child.stdout.readline() if ready else ""
+            line = _line(child, timeout)
             if line:
                 verdicts[path] = json.loads(line)
                 continue
-            verdicts[path] = _death(child) if ready else f"reading it did not finish within {timeout:g} s"
+            verdicts[path] = _death(child) if line == "" else f"reading it did not finish within {timeout:g} s"
             _stop(child)
             child = None
     finally:
