@@ -106,7 +106,7 @@ def _started() -> subprocess.Popen:
     """A reading process that has said READY (RuntimeError where none starts within START_TIMEOUT)."""
     child = _start()
     said = _line(child, START_TIMEOUT)
-    if said and json.loads(said) == READY:
+    if said is not None and said.strip() == json.dumps(READY):  # anything else (a crash, a stray line): no start
         return child
     _stop(child)
     raise RuntimeError(f"the netCDF reading process did not start within {START_TIMEOUT:g} s ({sys.executable})")
