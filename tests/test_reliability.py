@@ -39,10 +39,11 @@ for path in json.loads(sys.argv[1]):
         print("refused", str(err).replace("\\n", " "), flush=True)
 """
 
+# 56 points; 32 orientations are among the 128 that A_ex is refined on, so each point measures A_ex once
 FAULT_SWEEP = (
     SMALL.replace("stop = 120, step = 30", "stop = 165, step = 5")
     .replace("nx = 24", "nx = 48")
-    .replace("nphi = 16", "nphi = 48")
+    .replace("nphi = 16", "nphi = 32")
     .replace("segments = 24", "segments = 48")
 )
 
