@@ -484,8 +484,14 @@ def test_a_reading_process_that_dies_or_hangs_is_a_verdict_on_its_file(tmp_path,
     assert verdict in verdicts[tmp_path / "bad.nc"] and verdicts[good] is None
 
 
-@pytest.mark.parametrize("first", ["print('hello', flush=True)", "import sys; sys.exit(3)"])
-def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_path, monkeypatch, first):
+@pytest.mark.parametrize(
+    "first, why",
+    [
+        ("print('hello', flush=True)", "its first line was 'hello'"),
+        ("import sys; sys.exit(3)", "ended (exit status 3)"),
+    ],
+)
+def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_path, monkeypatch, first, why):
     """A reading process whose first line is not READY (a stray line, or none: it ended) has not started: that
     is an error of the machine, raised as such, not a verdict on the file it would have read."""
     from sesp import fileprobe
@@ -495,5 +501,6 @@ def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_p
         return subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
 
     monkeypatch.setattr(fileprobe, "_start", started)
-    with pytest.raises(RuntimeError, match="did not start"):
+    with pytest.raises(RuntimeError, match="did not start") as raised:
         fileprobe.probe([tmp_path / "any.nc"], timeout=0.5)
+    assert why in str(raised.value)

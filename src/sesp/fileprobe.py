@@ -106,17 +106,28 @@ def _started() -> subprocess.Popen:
     """A reading process that has said READY (RuntimeError where none starts within START_TIMEOUT)."""
     child = _start()
     said = _line(child, START_TIMEOUT)
-    if said is not None and said.strip() == json.dumps(READY):  # anything else (a crash, a stray line): no start
+    if said is not None and said.strip() == json.dumps(READY):
         return child
     _stop(child)
-    raise RuntimeError(f"the netCDF reading process did not start within {START_TIMEOUT:g} s ({sys.executable})")
+    if said is None:
+        why = f"it said nothing within {START_TIMEOUT:g} s"
+    elif not said:
+        why = f"it ended ({_status(child.returncode)})"
+    else:
+        why = f"its first line was {said.strip()[:80]!r}, not {json.dumps(READY)}"
+    raise RuntimeError(f"the netCDF reading process did not start: {why} ({sys.executable})")
+
+
+def _status(code: int) -> str:
+    """A process's return code in words: the signal that ended it, or its exit status."""
+    return signal.Signals(-code).name if code < 0 else f"exit status {code}"
 
 
 def _death(child: subprocess.Popen) -> str:
     code = child.wait()
     if code < 0:
-        return f"reading it crashed the netCDF/HDF5 library ({signal.Signals(-code).name})"
-    return f"reading it ended the reading process (exit status {code})"
+        return f"reading it crashed the netCDF/HDF5 library ({_status(code)})"
+    return f"reading it ended the reading process ({_status(code)})"
 
 
 def _stop(child: subprocess.Popen) -> None:
