@@ -454,6 +454,12 @@ def test_a_rerun_removes_the_temporaries_a_killed_runner_owned(tmp_path):
     assert not list((tmp_path / "out").glob(".*.tmp"))
 
 
+def _stand_in(code: str) -> subprocess.Popen:
+    """A stand-in for the probe's reading process: Python running ``code``, piped as the probe's own."""
+    pipes = dict(stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+    return subprocess.Popen([sys.executable, "-c", code], **pipes)
+
+
 @pytest.mark.parametrize(
     "child, verdict",
     [
@@ -469,13 +475,11 @@ def test_a_reading_process_that_dies_or_hangs_is_a_verdict_on_its_file(tmp_path,
     from sesp import fileprobe
 
     start = fileprobe._start
-    children = iter([[sys.executable, "-c", f"print('{json.dumps(fileprobe.READY)}', flush=True); {child}"], None])
+    children = iter([f"print('{json.dumps(fileprobe.READY)}', flush=True); {child}", None])
 
     def started():
-        command = next(children)
-        if command is None:
-            return start()
-        return subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
+        code = next(children)
+        return start() if code is None else _stand_in(code)
 
     monkeypatch.setattr(fileprobe, "_start", started)
     good = tmp_path / "good.nc"
@@ -496,11 +500,7 @@ def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_p
     is an error of the machine, raised as such, not a verdict on the file it would have read."""
     from sesp import fileprobe
 
-    def started():
-        command = [sys.executable, "-c", first]
-        return subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
-
-    monkeypatch.setattr(fileprobe, "_start", started)
+    monkeypatch.setattr(fileprobe, "_start", lambda: _stand_in(first))
     with pytest.raises(RuntimeError, match="did not start") as raised:
         fileprobe.probe([tmp_path / "any.nc"], timeout=0.5)
     assert why in str(raised.value)

@@ -103,7 +103,8 @@ def _line(child: subprocess.Popen, timeout: float) -> str | None:
 
 
 def _started() -> subprocess.Popen:
-    """A reading process that has said READY (RuntimeError where none starts within START_TIMEOUT)."""
+    """A reading process that has said READY; RuntimeError, saying why, where it says nothing else within
+    START_TIMEOUT, ends first, or says something else first."""
     child = _start()
     said = _line(child, START_TIMEOUT)
     if said is not None and said.strip() == json.dumps(READY):
