@@ -1,8 +1,10 @@
 """Certified excluded components: the ASP's exact set, rotation invariance, the depth certificate's soundness."""
 
 import json
+import logging
 import math
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -240,6 +242,29 @@ def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_com
     assert png.stat().st_size > 20_000
     assert main(command) == 0
     assert "2 excluded components" not in capsys.readouterr().out  # the text report says it its own way
+
+
+def test_the_map_shows_every_component_at_equal_scale_on_its_whole_panel(caplog):
+    """The left panel keeps x and y at one scale by widening its limits, not by shrinking the panel (which left a
+    gap beside it), and so without a matplotlib warning about fixed limits."""
+    from sesp.plot import _padded, certified_map
+
+    found = certified_components(_asp(90), base=32, **COARSE)
+    fig = certified_map(found, particle=_asp(90))
+    with caplog.at_level(logging.WARNING):
+        fig.canvas.draw()
+    assert not caplog.records
+    main = fig.axes[0]
+    assert main.get_position(original=False).bounds == pytest.approx(main.get_position(original=True).bounds)
+    (x0, x1), (y0, y1), box = main.get_xlim(), main.get_ylim(), main.get_window_extent()
+    assert (x1 - x0) / box.width == pytest.approx((y1 - y0) / box.height, rel=1e-6)
+    for c in found.components:
+        assert x0 < c.box[0] and c.box[1] < x1 and y0 < c.box[2] and c.box[3] < y1
+    boxes = np.array([c.box for c in found.components])
+    px0, px1, py0, py1 = _padded((boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max()))
+    # one pair of limits is the components' padded box, the other is widened to the panel: not zoomed out
+    assert (x0, x1) == pytest.approx((px0, px1)) or (y0, y1) == pytest.approx((py0, py1))
+    plt.close(fig)
 
 
 def test_a_map_without_components_says_how_deep_one_was_looked_for():

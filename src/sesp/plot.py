@@ -561,7 +561,8 @@ def _padded(box, share=0.15, each=False):
 def certified_map(found, *, particle=None, title=None, fig=None):
     """The certified excluded components (:func:`sesp.certified.certified_components`), each in its colour.
 
-    Left: the whole set, with the fixed particle in grey for scale. Right: one
+    Left: the whole set at equal scales on x and y (its limits widened to fill
+    the panel), with the fixed particle in grey for scale. Right: one
     panel per component (up to six), zoomed to its bounding box with y
     stretched to fill the panel, so strips far thinner than they are long are
     seen. Solid cells are certified deeper than the resolution; pale cells are
@@ -584,7 +585,14 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         _draw_cells(main, found, _padded(whole))
     if particle is not None:
         draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
-    main.set_aspect("equal")
+    # equal scales on the whole panel: the limits widen to fill it. They are left free to (autoscale on, else
+    # matplotlib warns) and set after the particle is drawn, so the view is not widened to the whole particle.
+    if shown:
+        x, y = main.get_xlim(), main.get_ylim()
+        main.set_autoscale_on(True)
+        main.set_xlim(*x, auto=None)
+        main.set_ylim(*y, auto=None)
+    main.set_aspect("equal", adjustable="datalim")
     main.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))  # a narrow panel: labels that do not touch
     main.set_xlabel("x (b)")
     main.set_ylabel("y (b)")
