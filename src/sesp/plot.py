@@ -547,8 +547,9 @@ def _draw_cells(ax, found, window):
             cells = PolyCollection(squares, facecolor=color, edgecolor=color, linewidth=0.4, alpha=alpha)
             cells.set_rasterized(True)
             ax.add_collection(cells)
-    ax.set_xlim(window[0], window[1])
-    ax.set_ylim(window[2], window[3])
+    # the view, set after every artist, left free to change (an equal aspect widens it without a warning)
+    ax.set_xlim(window[0], window[1], auto=None)
+    ax.set_ylim(window[2], window[3], auto=None)
 
 
 def _padded(box, share=0.15, each=False):
@@ -579,20 +580,13 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         fig = plt.figure(figsize=(11, 4.8) if shown else (6, 4.8), layout="constrained")
     grid = fig.add_gridspec(max(1, (len(shown) + 1) // 2), 3, width_ratios=(1.4, 1, 1)) if shown else fig.add_gridspec()
     main = fig.add_subplot(grid[:, 0])
+    if particle is not None:  # before the cells, which set the view (a line is drawn above them all the same)
+        draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
     if shown:
         boxes = np.array([c.box for c in shown])
         whole = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
         _draw_cells(main, found, _padded(whole))
-    if particle is not None:
-        draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
-    # equal scales on the whole panel: the limits widen to fill it. They are left free to (autoscale on, else
-    # matplotlib warns) and set after the particle is drawn, so the view is not widened to the whole particle.
-    if shown:
-        x, y = main.get_xlim(), main.get_ylim()
-        main.set_autoscale_on(True)
-        main.set_xlim(*x, auto=None)
-        main.set_ylim(*y, auto=None)
-    main.set_aspect("equal", adjustable="datalim")
+    main.set_aspect("equal", adjustable="datalim")  # equal scales on the whole panel: the limits widen to fill it
     main.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(4))  # a narrow panel: labels that do not touch
     main.set_xlabel("x (b)")
     main.set_ylabel("y (b)")
