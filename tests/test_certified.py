@@ -480,7 +480,8 @@ def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, 
 @pytest.mark.parametrize("trial", range(40))
 def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
     """The corridor kernel (one search from all seeds, then searches only as far as each path is long) marks
-    what a search from every seed over every leaf marks, on a grid of leaves with random seeds and walls."""
+    what a search from every seed over every leaf marks, on a grid of leaves with random seeds and walls; the
+    seeds are blocks of 1 to 36 leaves, so a large seed reaches farther than the paths to it are long."""
     from sesp.kernels import cells as cell_kernels
 
     rng = np.random.default_rng(trial)
@@ -493,7 +494,10 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
     passable = rng.random(side * side) < 0.7
     seed = np.full(side * side, -1, np.int64)
     for label in rng.choice(side * side, size=5, replace=False):
-        around = index[max(0, label // side - 1) : label // side + 1, max(0, label % side - 1) : label % side + 1]
+        r = rng.integers(1, 7)  # the block's side, in leaves
+        around = index[
+            max(0, label // side - r + 1) : label // side + 1, max(0, label % side - r + 1) : label % side + 1
+        ]
         seed[around.ravel()] = label
         passable[around.ravel()] = True
     start, neighbour = cell_kernels.adjacency(side * side, ea, eb)

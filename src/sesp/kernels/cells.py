@@ -154,11 +154,12 @@ def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
 
 
 @njit(**JIT)
-def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label):
+def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label, within=None):
     """A breadth-first search through ``passable`` leaves from the ``tail`` leaves listed first in ``touched``
     (their ``steps`` 0, ``label`` set; ``steps`` −1 where not reached): each leaf reached gets its steps, up to
     ``limit``, and the label of the leaf it was reached from. Returns how many leaves were reached, listed first
-    in ``touched`` (so that ``steps`` can be reset)."""
+    in ``touched`` (so that ``steps`` can be reset). ``within``: steps of another search; where given, only
+    leaves that search reached (≥ 0) are passed through."""
     head = 0
     while head < tail:
         a = touched[head]
@@ -167,7 +168,7 @@ def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, labe
             continue
         for e in range(start[a], start[a + 1]):
             b = neighbour[e]
-            if passable[b] and steps[b] < 0:
+            if passable[b] and steps[b] < 0 and (within is None or within[b] >= 0):
                 steps[b], label[b] = steps[a] + 1, label[a]
                 touched[tail] = b
                 tail += 1
@@ -223,8 +224,9 @@ def _steps_within(members, passable, start, neighbour, limit, steps, touched, la
 def corridors(seed, passable, start, neighbour, slack):
     """Leaves on the shortest paths (in steps, within ``slack`` more) through ``passable`` leaves from each seed
     (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined. ``start``,
-    ``neighbour``: :func:`adjacency`. Memory in proportion to the leaves, not to leaves times seeds: each
-    path is searched only as far as it is long."""
+    ``neighbour``: :func:`adjacency`; every seed's leaves passable. Memory in proportion to the leaves, not to
+    leaves times seeds: each path is searched only as far as it is long, and from the nearest seed only within
+    what the search from the seed reached."""
     n = seed.shape[0]
     out = np.zeros(n, np.bool_)
     labels = np.unique(seed[seed >= 0])
@@ -248,9 +250,18 @@ def corridors(seed, passable, start, neighbour, slack):
         m_s = _steps_within(
             order[first[s] : first[s + 1]], passable, start, neighbour, limit, from_s, touched_s, scratch
         )
-        m_t = _steps_within(
-            order[first[t] : first[t + 1]], passable, start, neighbour, limit, from_t, touched_t, scratch
-        )
+        # from t only within the leaves reached from s: a shortest path from t to a leaf a with
+        # d_s(a) + d_t(a) <= limit passes only leaves b with d_s(b) <= d_s(a) + d_t(a) - d_t(b) <= limit, so its
+        # steps are found there exactly, and elsewhere the sum stays above limit. A search from all of a large
+        # seed's leaves for each seed near it would cost seeds times leaves.
+        m_t = 0
+        for i in range(m_s):
+            a = touched_s[i]
+            if rank[a] == t:
+                from_t[a] = 0
+                touched_t[m_t] = a
+                m_t += 1
+        m_t = _breadth_first(touched_t, m_t, passable, start, neighbour, limit, from_t, scratch, from_s)
         for i in range(m_s):
             a = touched_s[i]
             if from_t[a] >= 0 and from_s[a] + from_t[a] <= limit:
