@@ -57,7 +57,9 @@ def proved(curves, x, y, tips):
     lo, hi = 1e-9, 0.1
     while hi > lo * 1.001:
         mid = math.sqrt(lo * hi)
-        ok = depth_kernels.certified_deep(curves, np.array([x]), np.array([y]), mid, 4096, tips=tips)[0]
+        ok = depth_kernels.certified_deep(
+            curves, np.array([x]), np.array([y]), mid, 4096, options=depth_kernels.OPTIONS._replace(tips=tips)
+        )[0]
         lo, hi = (mid, hi) if ok == 1 else (lo, mid)
     return lo
 

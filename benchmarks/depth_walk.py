@@ -25,18 +25,23 @@ BUDGETS = (1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 384, 512
 SAMPLE = 2000
 
 
+def _options(lengthen):
+    """The walk's options, lengthening pairs that are r apart or not."""
+    return depth_kernels.OPTIONS._replace(lengthen=lengthen)
+
+
 def intervals(curves, x, y, r, lengthen):
     """Per position: the least budget of BUDGETS at which its walk no longer runs out (the intervals it takes)."""
     need = np.full(len(x), BUDGETS[-1])
     for budget in reversed(BUDGETS):
-        got = depth_kernels.certified_deep(curves, x, y, r, budget, lengthen=lengthen)
+        got = depth_kernels.certified_deep(curves, x, y, r, budget, options=_options(lengthen))
         need[got != -1] = budget
     return need
 
 
 def walks(curves, x, y, r, steps, lengthen):
     """(seconds, answers): the walks at (x, y) to depth r (b), best of 3."""
-    return best_of(lambda: depth_kernels.certified_deep(curves, x, y, r, steps, 1e-9, lengthen=lengthen))
+    return best_of(lambda: depth_kernels.certified_deep(curves, x, y, r, steps, 1e-9, options=_options(lengthen)))
 
 
 def main(cases):

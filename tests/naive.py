@@ -80,3 +80,9 @@ def corridors(seed, passable, edges, slack):
         both = (steps[s] >= 0) & (steps[t] >= 0)
         out |= both & (steps[s] + steps[t] <= length + slack)
     return out
+
+
+def crossing_parity(cross, runs):
+    """Parity of the crossings (i, j) with i0 <= i < i1 and j0 <= j < j1, counted one by one."""
+    i0, i1, j0, j1 = runs
+    return int(sum(i0 <= i < i1 and j0 <= j < j1 for i, j in cross) % 2)

@@ -1,24 +1,29 @@
 """Certified excluded components: the ASP's exact set, rotation invariance, the depth certificate's soundness."""
 
+import functools
 import json
 import logging
 import math
+from dataclasses import fields, replace
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
 from sesp import Polyline, SeSP
-from sesp.certified import certified_components
+from sesp.certified import Settings, certified_components
 from sesp.cli import main
 from sesp.kernels import depth as depth_kernels
+from sesp.kernels import runs as run_kernels
 from sesp.orientations import allowed_orientations
 from sesp.pair import as_pair
 from sesp.topology import transitions
 
 import naive
+from cases import FULL
 
 COARSE = dict(resolution=1e-3)  # b: a resolution that keeps these tests to seconds
+NO_TIPS = depth_kernels.OPTIONS._replace(tips=False)  # depth walks without two end points
 
 
 def _asp(degrees):
@@ -143,7 +148,7 @@ def test_a_long_walk_at_the_fallback_gives_up_and_the_exact_windows_say_the_same
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     x, y = np.array([-1.8125]), np.array([-0.828125])
     assert depth_kernels.certified_deep(curves, x, y, np.array([0.022107]), 1024, fallback=1e-9).tolist() == [0]
-    assert depth_kernels.certified_deep(curves, x, y, np.array([1e-9]), 4096, tips=False).tolist() == [1]
+    assert depth_kernels.certified_deep(curves, x, y, np.array([1e-9]), 4096, options=NO_TIPS).tolist() == [1]
     assert allowed_orientations(pair, x, y).tolist() == [0.0]
 
 
@@ -182,14 +187,15 @@ def test_the_widest_odd_runs_are_those_a_plain_search_finds_with_many_crossings_
     a plain search by the definition."""
     pair = as_pair(_asp(5), segments=256)
     v1, w = pair.vertices1, np.ascontiguousarray(naive.transform(pair.vertices2, offset, 0.0, 0.3))
-    boxes1 = depth_kernels.chunk_boxes(v1, np.empty((depth_kernels.chunk_count(v1), 4)))
-    boxes2 = depth_kernels.chunk_boxes(w, np.empty((depth_kernels.chunk_count(w), 4)))
-    cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
-    count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross, 0, 0)
+    curves, _ = depth_kernels.prepared(v1, w)
+    boxes2 = curves.frame_boxes2  # w, as it is: its own boxes
+    cross = np.empty((depth_kernels.OPTIONS.max_crossings, 2), np.int64)
+    count = run_kernels.crossings(curves.v1, curves.boxes1, curves.v2, boxes2, cross, 0, 0)
     assert (count > 100) == (offset < 1e-3)
-    table = depth_kernels._parities(cross, count, len(v1) - 1, len(w) - 1)
+    table = run_kernels.parities(cross, count, len(v1) - 1, len(w) - 1)
     assert (table.shape[0] > 1) == (offset < 1e-3)
-    *_, margin = depth_kernels._odd_runs(v1, boxes1, w, boxes2, cross, count, table, 0, 0)
+    moved = run_kernels.Moved(curves.v2, boxes2, cross)
+    *_, margin = run_kernels.widest_odd_runs(curves, moved, count, table)
     assert margin == pytest.approx(_plain_widest_odd_runs(v1, w, cross[:count]), rel=1e-12)
 
 
@@ -203,8 +209,8 @@ def test_crossings_of_curves_stored_twice_over_are_every_segment_pair_that_meets
     for x, y, phi in [(0.4, 0.3, 0.5), (1.1, -0.2, 2.0), (0.05, 0.02, 3.0)]:
         w = np.ascontiguousarray(naive.transform(v2, x, y, phi))
         boxes2 = depth_kernels.chunk_boxes(w, np.empty((depth_kernels.chunk_count(w), 4)))
-        cross = np.empty((depth_kernels.MAX_CROSSINGS, 2), np.int64)
-        count = depth_kernels.crossings(v1, boxes1, w, boxes2, cross, p1, p2)
+        cross = np.empty((depth_kernels.OPTIONS.max_crossings, 2), np.int64)
+        count = run_kernels.crossings(v1, boxes1, w, boxes2, cross, p1, p2)
         expected = np.argwhere(naive.segment_pairs_meet(v1, w))
         assert count == len(expected) > 0
         assert sorted(map(tuple, cross[:count].tolist())) == sorted(map(tuple, expected.tolist()))
@@ -213,11 +219,12 @@ def test_crossings_of_curves_stored_twice_over_are_every_segment_pair_that_meets
 def test_crossing_parities_from_the_table_equal_those_counted():
     rng = np.random.default_rng(7)
     cross = rng.integers(0, 40, size=(300, 2))
-    table = depth_kernels._parity_table(cross, len(cross), 40, 40)
+    table = run_kernels.parity_table(cross, len(cross), 40, 40)
     for i0, i1, j0, j1 in rng.integers(0, 41, size=(200, 4)):
-        i0, i1, j0, j1 = min(i0, i1), max(i0, i1), min(j0, j1), max(j0, j1)
-        counted = depth_kernels._inside_parity(cross, len(cross), np.zeros((1, 1), np.uint8), i0, i1, j0, j1)
-        assert depth_kernels._inside_parity(cross, len(cross), table, i0, i1, j0, j1) == counted
+        runs = (int(min(i0, i1)), int(max(i0, i1)), int(min(j0, j1)), int(max(j0, j1)))
+        counted = run_kernels.inside_parity(cross, len(cross), np.zeros((1, 1), np.uint8), runs)
+        assert counted == naive.crossing_parity(cross, runs)
+        assert run_kernels.inside_parity(cross, len(cross), table, runs) == counted
 
 
 def test_the_walk_around_phi_proves_the_same_wherever_it_begins():
@@ -332,7 +339,7 @@ def test_two_tips_through_opposite_sides_prove_a_depth_no_one_pair_of_runs_shows
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     x, y = np.array([-1.233752]), np.array([0.009654])
     assert depth_kernels.certified_deep(curves, x, y, 3.5e-4, 1 << 16).tolist() == [1]
-    assert depth_kernels.certified_deep(curves, x, y, 1e-5, 1 << 16, tips=False).tolist() == [0]
+    assert depth_kernels.certified_deep(curves, x, y, 1e-5, 1 << 16, options=NO_TIPS).tolist() == [0]
     turn = math.radians(218)
     assert allowed_orientations(pair, x[0] + 3.7e-4 * math.cos(turn), y[0] + 3.7e-4 * math.sin(turn)) > 0
 
@@ -350,7 +357,7 @@ def test_two_tips_sliding_along_flat_sides_are_certified_in_long_turns_and_exclu
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     x, y = np.array([-0.32510]), np.array([-0.000020])
     assert depth_kernels.certified_deep(curves, x, y, r, 128).tolist() == [1]
-    assert depth_kernels.certified_deep(curves, x, y, r, 1 << 16, tips=False).tolist() == [0]
+    assert depth_kernels.certified_deep(curves, x, y, r, 1 << 16, options=NO_TIPS).tolist() == [0]
     turns = np.linspace(0, 2 * math.pi, 64, endpoint=False)
     width, _ = widest_window(part, x + 0.999 * r * np.cos(turns), y + 0.999 * r * np.sin(turns), segments=256)
     assert np.all(width == 0)
@@ -369,7 +376,7 @@ def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     rng = np.random.default_rng(0)
     x, y = rng.uniform(-1.35, -0.95, 4000), rng.uniform(-0.3, 0.3, 4000)
     both = depth_kernels.certified_deep(curves, x, y, r, 4096)
-    one = depth_kernels.certified_deep(curves, x, y, r, 4096, tips=False)
+    one = depth_kernels.certified_deep(curves, x, y, r, 4096, options=NO_TIPS)
     assert np.all(both[one == 1] == 1)
     only = np.flatnonzero((both == 1) & (one != 1))
     assert len(only) >= 3
@@ -392,7 +399,7 @@ def test_the_asps_body_near_pi_is_proved_deep_by_two_end_points():
     pair = as_pair(part, segments=256)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     x, y = np.array([-0.04]), np.array([0.0])
-    assert depth_kernels.certified_deep(curves, x, y, 3e-4, 4096, tips=False).tolist() == [0]
+    assert depth_kernels.certified_deep(curves, x, y, 3e-4, 4096, options=NO_TIPS).tolist() == [0]
     assert depth_kernels.certified_deep(curves, x, y, 1.7e-3, 4096).tolist() == [1]
     turns = np.linspace(0, 2 * math.pi, 32, endpoint=False)
     r = 0.999 * 1.7e-3
@@ -450,20 +457,21 @@ def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, 
     in windows narrower than ANGLE_GAP (1e-9 rad), which the windows close: only the hint finds them."""
     from scipy.spatial import cKDTree
 
-    from sesp.certified import _Engine
+    from sesp.certified import allowed_positions
+    from sesp.orientations import widest_window
 
     pair = as_pair(SeSP(n=n, opening=math.radians(degrees)), segments=256)
-    engine = _Engine(pair, 1e-5, 1e-3, 64)
     rng = np.random.default_rng(n)
     x = np.concatenate([rng.uniform(-1, 1, 300) * pair.reach, rng.normal(0, 2e-3, 300), np.zeros(300)])
     y = np.concatenate([rng.uniform(-1, 1, 300) * pair.reach, rng.normal(0, 2e-3, 300), rng.normal(0, 3e-4, 300)])
-    exact, middle = engine._windows(x, y)
+    width, middle = widest_window(pair, x, y)
+    exact = width > 0
     assert 0 < exact.sum() < len(x)  # both answers occur
     allowed = np.nonzero(exact)[0]
     _, k = cKDTree(np.column_stack([x[allowed], y[allowed]])).query(np.column_stack([x, y]), k=2)
     nearest = middle[allowed[k[:, 1]]]
     for hint in (nearest, rng.uniform(0, 2 * math.pi, len(x)), np.full(len(x), np.nan)):
-        got, phi = engine._allowed(x, y, hint)
+        got, phi = allowed_positions(pair, x, y, hint=hint)
         assert got[exact].all()
         assert np.isnan(phi[~got]).all()
         extra = np.nonzero(got & ~exact)[0]
@@ -500,8 +508,8 @@ def test_corridors_between_seeds_are_those_of_one_search_per_seed(trial):
         ]
         seed[around.ravel()] = label
         passable[around.ravel()] = True
-    start, neighbour = cell_kernels.adjacency(side * side, ea, eb)
-    got = cell_kernels.corridors(seed, passable, start, neighbour, 2)
+    near = cell_kernels.adjacency(side * side, ea, eb)
+    got = cell_kernels.corridors(seed, passable, near, 2)
     want = naive.corridors(seed, passable, pairs, 2)
     assert got.any() or not want.any()
     np.testing.assert_array_equal(got, want)
@@ -545,3 +553,52 @@ def test_the_default_rim_is_a_thousandth_of_b_or_the_resolution_or_the_polylines
         departure = as_pair(particle, segments=segments).departure
         assert found.rim == (departure if want is None else want) and departure < 1e-1
         assert (departure > 1e-3) == (want is None)
+
+
+SETTINGS_CASES = {  # fast cases whose counts are decided at the default settings: two end points, no axis
+    "asp 150": (_asp(150), None, dict(resolution=1e-2, segments=64)),
+    "n4 176": (SeSP(n=4, opening=math.radians(176)), None, dict(resolution=3e-3, segments=64)),
+    "n10 170": (SeSP(n=10, opening=math.radians(170)), None, dict(resolution=1e-2, segments=64)),
+    "mixture": (SeSP(n=4, opening=math.radians(100)), Polyline([[-0.6, -0.3], [0.1, 0.2], [0.5, -0.4]]),
+                dict(resolution=1e-2, segments=64)),
+}  # fmt: skip
+
+
+@functools.cache
+def _default_count(case):
+    particle, other, kw = SETTINGS_CASES[case]
+    return certified_components(particle, other, **kw).count
+
+
+def _scaled(name, factor):
+    """The default Settings with ``name`` multiplied by ``factor`` (a whole number stays whole; ``turns``, each
+    angle)."""
+    default = getattr(Settings(), name)
+    if name == "turns":
+        return replace(Settings(), turns=tuple(t * factor for t in default))
+    if isinstance(default, int):
+        return replace(Settings(), **{name: max(1, round(default * factor))})
+    return replace(Settings(), **{name: default * factor})
+
+
+_VARIANTS = [(name, factor) for name in (f.name for f in fields(Settings)) for factor in (0.5, 2.0)]
+# the fast suite runs each variant on one case, the cases in turn; SESP_FULL_TESTS=1 every variant on every case
+_RUNS = [(case, *variant) for k, variant in enumerate(_VARIANTS) for c, case in enumerate(SETTINGS_CASES)
+         if FULL or k % len(SETTINGS_CASES) == c]  # fmt: skip
+
+
+@pytest.mark.parametrize(("case", "name", "factor"), _RUNS, ids=[f"{c}-{n}x{f:g}" for c, n, f in _RUNS])
+def test_the_cost_settings_change_no_decided_count(case, name, factor):
+    """Every cost setting, halved and doubled: the count is decided and the same as at the defaults."""
+    particle, other, kw = SETTINGS_CASES[case]
+    changed = certified_components(particle, other, settings=_scaled(name, factor), **kw)
+    assert _default_count(case) is not None and changed.count == _default_count(case)
+
+
+def test_settings_are_checked():
+    with pytest.raises(ValueError, match="rays"):
+        Settings(rays=0)
+    with pytest.raises(ValueError, match="depth_tolerance"):
+        Settings(depth_tolerance=2.0)
+    with pytest.raises(ValueError, match="turns"):
+        Settings(turns=())

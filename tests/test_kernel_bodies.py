@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 
-import sesp.certified
 import sesp.kernels.cells
 import sesp.kernels.depth
 import sesp.kernels.orientations
@@ -30,6 +29,8 @@ def _same(a, b) -> bool:
 def _copied(value):
     """A deep copy that keeps each array's read-only flag: numba compiles read-only and writable arrays as
     different types, and a copy that changed the flag would compile the kernel again for it."""
+    if isinstance(value, tuple) and hasattr(value, "_fields"):  # a named tuple: the kernels' structured arguments
+        return type(value)(*(_copied(v) for v in value))
     if isinstance(value, tuple | list):
         return type(value)(_copied(v) for v in value)
     if isinstance(value, np.ndarray):
@@ -76,8 +77,8 @@ def test_union_find_and_insertion_sort_bodies():
 
 def test_certified_engine_kernel_bodies(monkeypatch):
     kernels = {
-        (sesp.certified, "windows_at"): sesp.kernels.orientations.windows_at,
-        (sesp.certified, "clearance_at"): sesp.kernels.orientations.clearance_at,
+        (sesp.kernels.orientations, "windows_at"): sesp.kernels.orientations.windows_at,
+        (sesp.kernels.orientations, "clearance_at"): sesp.kernels.orientations.clearance_at,
         (sesp.kernels.depth, "cover_at"): sesp.kernels.depth.cover_at,
         (sesp.kernels.cells, "leaf_edges"): sesp.kernels.cells.leaf_edges,
         (sesp.kernels.cells, "components"): sesp.kernels.cells.components,

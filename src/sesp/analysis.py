@@ -13,7 +13,8 @@ import math
 import numpy as np
 import xarray as xr
 
-from .certified import BASE, RESOLUTION, certified_components, check_resolution
+from .certified import BASE, COMPONENTS_KEPT, RESOLUTION, certified_components
+from .checks import check_resolution
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
@@ -23,7 +24,7 @@ from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
-from .units import AREA, DENSITY, LENGTH
+from .units import AREA, DENSITY
 from .virial import third_virial
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
@@ -31,7 +32,6 @@ __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 KEEP = ("excluded_area", "classes", "topology", "phases", "third_virial", "allowed", "crossings", "entangled")
 SCALAR_KEEP = ("excluded_area", "topology", "phases", "third_virial")  # what needs no pass over the lattice
 FIELD_KEEP = ("allowed", "crossings", "entangled")
-COMPONENTS_KEPT = 4  # depths and areas of the deepest excluded components stored
 PER_POSITION = ("allowed_fraction", "mean_orientation", "orientation_order", "classes")
 # Bytes per (x, y) position held by the position summary's running sums, its outputs and component labels.
 SUMMARY_BYTES_PER_POSITION = 64
@@ -291,22 +291,4 @@ def _add_phases(ds, best, pair):
 
 def _add_components(ds, pair, resolution):
     """The certified count of excluded components, its bracket and the deepest components, in place."""
-    found = certified_components(pair, resolution=resolution, base=BASE)
-    kept = found.components[:COMPONENTS_KEPT]
-    attrs = {"units": "1", "resolution": resolution, "resolution_units": "b"}
-    said = "excluded components at the resolution, at least resolution + rim deep"
-    ds["excluded_components"] = xr.DataArray(found.low, attrs={**attrs, "long_name": f"{said} (bracket's low end)"})
-    ds["excluded_components_high"] = xr.DataArray(
-        found.high, attrs={**attrs, "long_name": f"{said} (bracket's high end)"}
-    )
-    ds["component_rim"] = xr.DataArray(
-        found.rim, attrs={**LENGTH, "long_name": "rim: a component is counted from resolution + rim deep"}
-    )
-    for name, unit, what, long_name in (
-        ("component_depth", LENGTH, "depth", "certified depth (inscribed radius, lower bound) of each component"),
-        ("component_area", AREA, "area", "certified area (lower bound) of each excluded component"),
-        ("component_area_bound", AREA, "area_bound", "upper bound on the area of each excluded component"),
-    ):
-        values = np.full(COMPONENTS_KEPT, np.nan)
-        values[: len(kept)] = [getattr(c, what) for c in kept]
-        ds[name] = xr.DataArray(values, dims="component", attrs={**unit, "long_name": f"{long_name}, deepest first"})
+    ds.update(certified_components(pair, resolution=resolution, base=BASE).to_dataset(COMPONENTS_KEPT))

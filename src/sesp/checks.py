@@ -19,6 +19,7 @@ __all__ = [
     "check_opening",
     "check_choice",
     "check_samples",
+    "check_resolution",
 ]
 
 
@@ -57,12 +58,12 @@ def check_nonnegative(name: str, value) -> float:
     return value
 
 
-def check_count(name: str, value, lo: int, hi: int) -> int:
-    """An integer (not a bool) in [lo, hi]."""
+def check_count(name: str, value, lo: int, hi: int, unit: str = "") -> int:
+    """An integer (not a bool) in [lo, hi] (``unit``: what it counts, said after the range)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}]{unit}, got {value!r}")
     if not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value}")
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}]{unit}, got {value}")
     return int(value)
 
 
@@ -98,3 +99,21 @@ def check_samples(samples) -> int:
     if isinstance(samples, bool) or int(samples) != samples or samples < 1:
         raise ValueError(f"samples must be an integer >= 1, got {samples!r}")
     return int(samples)
+
+
+# The certified count's lengths (b) and base grid: below 1e-9 b a count's cells would outnumber memory long before
+# it finished; above 1 b nothing of a particle of size ~1 b is resolved.
+RESOLUTIONS = (1e-9, 1.0)
+BASES = (4, 4096)
+
+
+def check_resolution(resolution, rim=None, base=None) -> None:
+    """The certified count's ``resolution`` ε (a length in [1e-9, 1] b), ``rim`` (None, or a length in [ε, 1] b)
+    and ``base`` (None, or a whole number of cells in [4, 4096]): the one check of each, for Python and the
+    command line alike."""
+    low, high = RESOLUTIONS
+    resolution = check_range("resolution", resolution, low, high, " b")
+    if rim is not None:
+        check_range("rim", rim, resolution, high, f" b (from the resolution, {resolution:g} b)")
+    if base is not None:
+        check_count("base", base, *BASES, " cells")

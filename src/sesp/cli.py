@@ -269,13 +269,10 @@ def _topology_defaults(args):
 
 
 def _cmd_topology(args) -> int:
+    from .checks import check_resolution
+
     _topology_defaults(args)
-    if not (math.isfinite(args.resolution) and 1e-9 <= args.resolution <= 1.0):
-        raise ValueError(f"--resolution must be a length in [1e-9, 1] b, got {args.resolution}")
-    if not 4 <= args.base <= 4096:
-        raise ValueError(f"--base must be an integer in [4, 4096] (cells), got {args.base}")
-    if args.rim is not None and not (math.isfinite(args.rim) and args.resolution <= args.rim <= 1.0):
-        raise ValueError(f"--rim must be a length in [--resolution, 1] b ({args.resolution:g} .. 1), got {args.rim}")
+    check_resolution(args.resolution, args.rim, args.base)
     _check_figure_path(args.plot)
     if args.opening is not None:
         return _topology_at_opening(args)
@@ -570,6 +567,15 @@ def _warning_handler() -> logging.Handler:
     return handler
 
 
+def _said_as_option(message: str, args) -> str:
+    """A checker's message about a parameter that is also this command's option, in the option's name
+    ("resolution must be ..." -> "--resolution must be ..."): Python and the command line share one checker."""
+    name, _, rest = message.partition(" must ")
+    if rest and name.isidentifier() and getattr(args, name, None) is not None:
+        return f"--{name.replace('_', '-')} must {rest}"
+    return message
+
+
 def main(argv=None) -> int:
     """Entry point of the ``sesp`` console script."""
     parser = build_parser()
@@ -583,7 +589,7 @@ def main(argv=None) -> int:
     except USER_ERRORS as err:
         if args.debug:
             raise
-        print(f"sesp: error: {err}", file=sys.stderr)
+        print(f"sesp: error: {_said_as_option(str(err), args)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("sesp: interrupted", file=sys.stderr)

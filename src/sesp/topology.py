@@ -38,7 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from .certified import BASE, RESOLUTION, Certified, certified_components, check_resolution
+from .certified import BASE, RESOLUTION, Certified, certified_components
+from .checks import check_resolution
 from .dataset import cell_area
 from .kernels import cells as cell_kernels
 from .pair import Pair

@@ -61,10 +61,13 @@ def leaf_edges(level, ii, jj, base):
 
 
 @njit(**JIT)
-def squares_in_disks(x, y, h, offsets, cx, cy, reach):
-    """Per leaf a (centre x, y and half-diagonal h, b): whether each of its k × k squares, centred at
-    (x + h·offsets[p], y + h·offsets[q]) with half-diagonal h/k, lies inside one of the disks about
-    (cx[a, d], cy[a, d]) of radius reach[a, d] (strictly): its centre is nearer than the radius less h/k."""
+def squares_in_disks(leaves, offsets, disks):
+    """Per leaf a (``leaves``: centres x, y and half-diagonals h, b): whether each of its k × k squares, centred
+    at (x + h·offsets[p], y + h·offsets[q]) with half-diagonal h/k, lies inside one of its disks (``disks``:
+    cx, cy, reach, each (leaves, d): the disk about (cx[a, d], cy[a, d]) of radius reach[a, d]) strictly: its
+    centre is nearer than the radius less h/k."""
+    x, y, h = leaves
+    cx, cy, reach = disks
     k = offsets.shape[0]
     out = np.zeros(x.shape[0], np.bool_)
     for a in range(x.shape[0]):
@@ -131,10 +134,11 @@ def adjacency(n, ea, eb):
 
 
 @njit(**JIT)
-def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
+def disk_components(member, x, y, radius, half_diagonal, near):
     """Components of the ``member`` leaves, joined where they are adjacent or where the disks of ``radius`` about
     their centres meet, among leaves two steps apart (the union of two meeting disks is connected); a leaf whose
-    disk is no wider than itself reaches no farther than its neighbours. ``start``, ``neighbour``: :func:`adjacency`."""
+    disk is no wider than itself reaches no farther than its neighbours. ``near``: :func:`adjacency`."""
+    start, neighbour = near
     n = member.shape[0]
     parent = np.arange(n)
     for a in range(n):
@@ -154,12 +158,14 @@ def disk_components(member, x, y, radius, half_diagonal, start, neighbour):
 
 
 @njit(**JIT)
-def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label, within=None):
-    """A breadth-first search through ``passable`` leaves from the ``tail`` leaves listed first in ``touched``
-    (their ``steps`` 0, ``label`` set; ``steps`` −1 where not reached): each leaf reached gets its steps, up to
-    ``limit``, and the label of the leaf it was reached from. Returns how many leaves were reached, listed first
-    in ``touched`` (so that ``steps`` can be reset). ``within``: steps of another search; where given, only
-    leaves that search reached (≥ 0) are passed through."""
+def _breadth_first(queue, passable, near, limit, steps, label, within=None):
+    """A breadth-first search through ``passable`` leaves from the leaves listed first in the ``queue``
+    (touched, tail): their ``steps`` 0, ``label`` set; ``steps`` −1 where not reached. Each leaf reached gets its
+    steps, up to ``limit``, and the label of the leaf it was reached from. Returns how many leaves were reached,
+    listed first in ``touched`` (so that ``steps`` can be reset). ``near``: :func:`adjacency`; ``within``: steps
+    of another search; where given, only leaves that search reached (≥ 0) are passed through."""
+    touched, tail = queue
+    start, neighbour = near
     head = 0
     while head < tail:
         a = touched[head]
@@ -176,11 +182,12 @@ def _breadth_first(touched, tail, passable, start, neighbour, limit, steps, labe
 
 
 @njit(**JIT)
-def _nearest_seeds(rank, passable, start, neighbour, k):
+def _nearest_seeds(rank, passable, near, k):
     """Per seed (``rank`` 0..k−1 per leaf, −1 for others): the steps through ``passable`` leaves to the nearest
     other seed, and that seed (the lowest-ranked of the nearest; −1 where none is reached). One breadth-first
     search from all seeds at once labels every leaf with a nearest seed; the shortest path from seed s to
     another crosses an edge (a, b) whose labels differ first, and there d(a) + 1 + d(b) is its length."""
+    start, neighbour = near
     n = rank.shape[0]
     d = np.full(n, -1, np.int64)
     label = np.full(n, -1, np.int64)
@@ -191,7 +198,7 @@ def _nearest_seeds(rank, passable, start, neighbour, k):
             d[a], label[a] = 0, rank[a]
             queue[tail] = a
             tail += 1
-    _breadth_first(queue, tail, passable, start, neighbour, np.iinfo(np.int64).max, d, label)
+    _breadth_first((queue, tail), passable, near, np.iinfo(np.int64).max, d, label)
     length = np.full(k, np.iinfo(np.int64).max, np.int64)
     nearest = np.full(k, -1, np.int64)
     for a in range(n):
@@ -208,23 +215,23 @@ def _nearest_seeds(rank, passable, start, neighbour, k):
 
 
 @njit(**JIT)
-def _steps_within(members, passable, start, neighbour, limit, steps, touched, label):
-    """Steps from the leaves ``members`` through ``passable`` leaves, up to ``limit``, written into ``steps``
-    (−1 where not reached, on entry and for leaves farther; ``label``: scratch); returns how many leaves were
-    reached, listed first in ``touched``."""
+def _steps_within(members, passable, near, limit, steps, touched, label):
+    """Steps from the leaves ``members`` through ``passable`` leaves (``near``: :func:`adjacency`), up to
+    ``limit``, written into ``steps`` (−1 where not reached, on entry and for leaves farther; ``label``:
+    scratch); returns how many leaves were reached, listed first in ``touched``."""
     tail = 0
     for a in members:
         steps[a] = 0
         touched[tail] = a
         tail += 1
-    return _breadth_first(touched, tail, passable, start, neighbour, limit, steps, label)
+    return _breadth_first((touched, tail), passable, near, limit, steps, label)
 
 
 @njit(**JIT)
-def corridors(seed, passable, start, neighbour, slack):
+def corridors(seed, passable, near, slack):
     """Leaves on the shortest paths (in steps, within ``slack`` more) through ``passable`` leaves from each seed
-    (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined. ``start``,
-    ``neighbour``: :func:`adjacency`; every seed's leaves passable. Memory in proportion to the leaves, not to
+    (leaves sharing a label ≥ 0) to the seed nearest to it: where two seeds could be joined. ``near``:
+    :func:`adjacency`; every seed's leaves passable. Memory in proportion to the leaves, not to
     leaves times seeds: each path is searched only as far as it is long, and from the nearest seed only within
     what the search from the seed reached."""
     n = seed.shape[0]
@@ -239,7 +246,7 @@ def corridors(seed, passable, start, neighbour, slack):
             rank[a] = np.searchsorted(labels, seed[a])
     order = np.argsort(rank, kind="mergesort")
     first = np.searchsorted(rank[order], np.arange(-1, k + 1))[1:]  # seed s's leaves: order[first[s]:first[s + 1]]
-    length, nearest = _nearest_seeds(rank, passable, start, neighbour, k)
+    length, nearest = _nearest_seeds(rank, passable, near, k)
     from_s, from_t = np.full(n, -1, np.int64), np.full(n, -1, np.int64)
     touched_s, touched_t, scratch = np.empty(n, np.int64), np.empty(n, np.int64), np.zeros(n, np.int64)
     for s in range(k):
@@ -247,9 +254,7 @@ def corridors(seed, passable, start, neighbour, slack):
         if t < 0:
             continue
         limit = length[s] + slack
-        m_s = _steps_within(
-            order[first[s] : first[s + 1]], passable, start, neighbour, limit, from_s, touched_s, scratch
-        )
+        m_s = _steps_within(order[first[s] : first[s + 1]], passable, near, limit, from_s, touched_s, scratch)
         # from t only within the leaves reached from s: a shortest path from t to a leaf a with
         # d_s(a) + d_t(a) <= limit passes only leaves b with d_s(b) <= d_s(a) + d_t(a) - d_t(b) <= limit, so its
         # steps are found there exactly, and elsewhere the sum stays above limit. A search from all of a large
@@ -261,7 +266,7 @@ def corridors(seed, passable, start, neighbour, slack):
                 from_t[a] = 0
                 touched_t[m_t] = a
                 m_t += 1
-        m_t = _breadth_first(touched_t, m_t, passable, start, neighbour, limit, from_t, scratch, from_s)
+        m_t = _breadth_first((touched_t, m_t), passable, near, limit, from_t, scratch, from_s)
         for i in range(m_s):
             a = touched_s[i]
             if from_t[a] >= 0 and from_s[a] + from_t[a] <= limit:
