@@ -29,7 +29,8 @@ import numpy as np
 from _common import machine, table
 from scipy import ndimage
 
-from sesp import SeSP, widest_window
+from sesp import SeSP
+from sesp.orientations import widest_window
 
 BOX = (-0.437, -0.428, -0.004, 0.0)  # b: xmin, xmax, ymin, ymax
 

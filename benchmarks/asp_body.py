@@ -27,8 +27,9 @@ import time
 import numpy as np
 from _common import machine, table
 
-from sesp import SeSP, widest_window
+from sesp import SeSP
 from sesp.kernels import depth as depth_kernels
+from sesp.orientations import widest_window
 from sesp.pair import as_pair
 
 SEGMENTS = 256

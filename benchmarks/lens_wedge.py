@@ -43,7 +43,8 @@ import time
 import numpy as np
 from _common import machine, table
 
-from sesp import SeSP, widest_window
+from sesp import SeSP
+from sesp.orientations import widest_window
 
 HEIGHTS = (0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3)  # b
 XMIN, XMAX = -0.005, 0.02  # b

@@ -13,7 +13,8 @@ import time
 
 from _common import machine, table
 
-from sesp import Grid, Polyline, SeSP, shifted_excluded_area
+from sesp import Grid, Polyline, SeSP
+from sesp.measures import shifted_excluded_area
 from sesp.onsager import ORDER_NAMES, instabilities, orientational_spectrum, second_virial
 
 

@@ -7,16 +7,8 @@ import math
 
 import numpy as np
 
-from sesp import (
-    Grid,
-    Polyline,
-    SeSP,
-    convex_excluded_area,
-    kinematic_integral,
-    lattice_excluded_area,
-    monte_carlo,
-    scan,
-)
+from sesp import Grid, Polyline, SeSP, scan
+from sesp.measures import convex_excluded_area, kinematic_integral, lattice_excluded_area, monte_carlo
 
 needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
 for nx in (512, 511):

@@ -29,6 +29,14 @@ NS = (2, 4, 8)
 NAME = "phase_diagram_thick" if THICKNESS else "phase_diagram"
 
 
+def _plain(found) -> dict:
+    """The first transition's numbers: order, density, ordered density, continuous."""
+    return {
+        "order": int(found.transition_order), "density": float(found.transition_density),
+        "ordered_density": float(found.ordered_density), "continuous": bool(found.continuous),
+    }  # fmt: skip
+
+
 def main():
     openings = np.radians(np.arange(0.0, 360.0, STEP))
     shape = (len(NS), len(openings))
@@ -41,9 +49,11 @@ def main():
             t0 = time.perf_counter()
             particle = sesp.SeSP(n=n, opening=opening, thickness=THICKNESS)
             area = sesp.excluded_area(particle, rtol=1e-4)
-            found = first_transition(area)
+            found = _plain(first_transition(area))
             parsons_lee = (
-                first_transition(area, particle_area=sesp.onsager.particle_area(particle)) if THICKNESS else found
+                _plain(first_transition(area, particle_area=sesp.onsager.particle_area(particle)))
+                if THICKNESS
+                else found
             )
             out["seconds"][i, j] = time.perf_counter() - t0
             out["transition_density"][i, j], out["ordered_density"][i, j] = found["density"], found["ordered_density"]

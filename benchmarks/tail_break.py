@@ -4,7 +4,7 @@ Below about 168° the excluded set of n = m = 4 (A = 1, N = 256) holds the
 stretch of the axis left of the centre, from the tail's tip to the body,
 whole. The tail parts from the body where an allowed gap opens in it. This
 script samples that stretch (``--left`` to ``--right``, b) at ``--spacing``
-and counts its excluded runs with :func:`sesp.allowed_orientations` (exact in
+and counts its excluded runs with :func:`sesp.orientations.allowed_orientations` (exact in
 φ) over Ψ from ``--from`` to ``--top`` every ``--step`` degrees, then bisects
 the first change to ``--tolerance`` degrees. The bracket is where a gap wider
 than the spacing first opens on the axis: the break of the set in the plane
@@ -22,7 +22,8 @@ import time
 import numpy as np
 from _common import machine, table
 
-from sesp import SeSP, allowed_orientations
+from sesp import SeSP
+from sesp.orientations import allowed_orientations
 
 
 def excluded_runs(degrees, xs):

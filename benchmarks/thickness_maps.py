@@ -18,7 +18,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 from _common import machine, table
 
-from sesp import CLASSES, Grid, SeSP, cell_area, plot, summarize
+from sesp import Grid, SeSP, plot
+from sesp.dataset import cell_area
+from sesp.regions import CLASSES, summarize
 
 OUT = Path(__file__).resolve().parent / "figures" / "asp90_thin_vs_thick.png"
 

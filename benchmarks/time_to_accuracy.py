@@ -3,7 +3,7 @@
 ASP (n = 2) at Ψ = π/2, N = 256. Two grid quadratures are timed on a ladder of
 resolutions:
 
-* ``shifted``: :func:`sesp.shifted_excluded_area`, the lattice moved per φ slice;
+* ``shifted``: :func:`sesp.measures.shifted_excluded_area`, the lattice moved per φ slice;
 * ``cell-centred``: the stored field's quadrature (``excluded_area`` of the
   allowed field, via the streaming :func:`sesp.regions.summarize`).
 
@@ -21,7 +21,8 @@ import math
 
 from _common import best_of, machine, table
 
-from sesp import Grid, SeSP, monte_carlo, shifted_excluded_area
+from sesp import Grid, SeSP
+from sesp.measures import monte_carlo, shifted_excluded_area
 from sesp.regions import summarize
 
 TARGET = 1e-4

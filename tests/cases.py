@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from sesp import Polyline, SeSP, blocked_orientations
+from sesp import Polyline, SeSP
+from sesp.orientations import blocked_orientations
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -6,20 +6,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sesp import (
-    Grid,
-    SeSP,
-    analyze,
-    certified_components,
-    closed_excluded_area,
-    describe,
-    excluded_area,
-    lattice_excluded_area,
-    scan,
-    scanline_excluded_area,
-    smooth_excluded_area,
-    summarize,
-)
+from sesp import Grid, SeSP, analyze, certified_components, describe, excluded_area, scan
+from sesp.measures import closed_excluded_area, lattice_excluded_area, scanline_excluded_area, smooth_excluded_area
+from sesp.regions import summarize
 
 from cases import NEEDLE
 

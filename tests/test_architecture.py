@@ -67,4 +67,4 @@ def test_public_api_lists_what_it_exports():
         assert hasattr(sesp, name), name
     # modules reached as attributes are not shadowed by functions of the same name
     assert sesp.plot.__name__ == "sesp.plot" and sesp.topology.__name__ == "sesp.topology"
-    assert callable(sesp.scan) and callable(sesp.summarize) and callable(sesp.analyze)
+    assert callable(sesp.scan) and callable(sesp.regions.summarize) and callable(sesp.analyze)

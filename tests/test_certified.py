@@ -254,7 +254,7 @@ def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_com
 def test_the_map_shows_every_component_at_equal_scale_on_its_whole_panel(caplog):
     """The left panel keeps x and y at one scale by widening its limits, not by shrinking the panel (which left a
     gap beside it), and so without a matplotlib warning about fixed limits."""
-    from sesp.plot import _padded, certified_map
+    from sesp.plot import certified_map
 
     found = certified_components(_asp(90), base=32, **COARSE)
     fig = certified_map(found, particle=_asp(90))
@@ -268,7 +268,9 @@ def test_the_map_shows_every_component_at_equal_scale_on_its_whole_panel(caplog)
     for c in found.components:
         assert x0 < c.box[0] and c.box[1] < x1 and y0 < c.box[2] and c.box[3] < y1
     boxes = np.array([c.box for c in found.components])
-    px0, px1, py0, py1 = _padded((boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max()))
+    x_lo, x_hi, y_lo, y_hi = boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max()
+    pad = 0.15 * max(x_hi - x_lo, y_hi - y_lo)  # the view: the components' box grown by 15 % of its larger side
+    px0, px1, py0, py1 = x_lo - pad, x_hi + pad, y_lo - pad, y_hi + pad
     # one pair of limits is the components' padded box, the other is widened to the panel: not zoomed out
     assert (x0, x1) == pytest.approx((px0, px1)) or (y0, y1) == pytest.approx((py0, py1))
     plt.close(fig)

@@ -217,21 +217,21 @@ def test_the_compile_notice_names_each_command_s_own_kernels(tmp_path, monkeypat
     `sesp topology` does not compile the overlap kernels of a scan, and the reverse."""
     import numba
 
-    from sesp.cli import _kernels_cached
+    from sesp.cli import kernels_cached
 
     monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
-    assert not _kernels_cached(["depth"])
+    assert not kernels_cached(["depth"])
     (tmp_path / "sesp_kernels").mkdir()
     (tmp_path / "sesp_kernels" / "depth.cover-12.py311.nbi").touch()
-    assert _kernels_cached(["depth"])
-    assert not _kernels_cached(["depth", "overlap"])
+    assert kernels_cached(["depth"])
+    assert not kernels_cached(["depth", "overlap"])
 
 
 def test_a_sweep_keeping_topology_waits_for_the_certified_count_s_kernels_too():
-    from sesp.cli import CERTIFIED_KERNELS, _sweep_kernels
+    from sesp.cli import CERTIFIED_KERNELS, sweep_kernels
 
-    assert set(CERTIFIED_KERNELS) <= set(_sweep_kernels(("excluded_area", "topology")))
-    assert not set(CERTIFIED_KERNELS) & set(_sweep_kernels(("excluded_area", "classes")))
+    assert set(CERTIFIED_KERNELS) <= set(sweep_kernels(("excluded_area", "topology")))
+    assert not set(CERTIFIED_KERNELS) & set(sweep_kernels(("excluded_area", "classes")))
 
 
 STAPLE_ROWS = "-0.5 0.5\n-0.5 -0.5\n0.5 -0.5\n0.5 0.5\n"

@@ -5,24 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from sesp import (
-    Grid,
-    Pair,
-    SeSP,
-    analyze,
-    cell_area,
-    describe,
-    grid_of,
-    lattice_excluded_area,
-    load,
-    monte_carlo,
-    normalized_excluded_area,
-    pair_of,
-    save,
-    scan,
-    summarize,
-)
+from sesp import Grid, Pair, SeSP, analyze, describe, load, save, scan
 from sesp.cli import main
+from sesp.dataset import cell_area, grid_of, pair_of
+from sesp.measures import lattice_excluded_area, monte_carlo, normalized_excluded_area
+from sesp.regions import summarize
 from sesp.report import area_text
 from sesp.sweep import run
 
@@ -64,7 +51,7 @@ KINDS = {
     "analysis": "sesp.summary",
     "mixture": "sesp.summary",
     "phases": "sesp.summary",
-    "monte_carlo": "sesp.monte_carlo",
+    "monte_carlo": "sesp.measures.monte_carlo",
     "point": "sesp.point",
     "sweep": "sesp.sweep",
 }

@@ -3,8 +3,9 @@ import math
 import numpy as np
 import pytest
 
-from sesp import Grid, Polyline, SeSP, monte_carlo, scan
+from sesp import Grid, Polyline, SeSP, scan
 from sesp.dataset import field_sha256
+from sesp.measures import monte_carlo
 
 import naive
 from cases import STAPLE, ZED

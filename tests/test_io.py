@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sesp import Grid, SeSP, SespFileError, load, monte_carlo, save, scan
+from sesp import Grid, SeSP, SespFileError, load, save, scan
+from sesp.measures import monte_carlo
 
 
 @pytest.fixture(scope="module")

@@ -5,24 +5,20 @@ import math
 import numpy as np
 import pytest
 
-from sesp import (
-    Grid,
-    Polyline,
-    SeSP,
+from sesp import Grid, Polyline, SeSP, excluded_area, scan
+from sesp.exact import arc_excluded_area, minkowski_excluded_area, superellipse_area, superellipse_perimeter
+from sesp.measures import (
     convex_excluded_area,
-    excluded_area,
     kinematic_integral,
     lattice_excluded_area,
     lattice_excluded_area_error,
+    lattice_shifts,
     monte_carlo,
     normalized_excluded_area,
-    scan,
     scanline_excluded_area,
     shifted_excluded_area,
     smooth_excluded_area,
 )
-from sesp.exact import arc_excluded_area, minkowski_excluded_area, superellipse_area, superellipse_perimeter
-from sesp.measures import lattice_shifts
 
 from cases import ZED
 

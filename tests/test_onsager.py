@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from sesp import Grid, Polyline, SeSP, analyze, convex_excluded_area, shifted_excluded_area
+from sesp import Grid, Polyline, SeSP, analyze
+from sesp.measures import convex_excluded_area, shifted_excluded_area
 from sesp.onsager import (
     contact_density,
     entangled_neighbours,
@@ -16,7 +17,6 @@ from sesp.onsager import (
     onsager_variables,
     orientational_spectrum,
     second_virial,
-    virial_matrix,
 )
 
 from cases import NEEDLE
@@ -110,12 +110,14 @@ def test_needle_ring_mixture_cross_coefficient(radius):
     np.testing.assert_allclose(cross.values, exact, rtol=2e-3)  # every φ
     needles = _uniform(lambda p: L**2 * np.abs(np.sin(p)), 16)
     rings = _uniform(lambda p: np.full_like(p, 4 * math.pi * radius**2), 16)
-    matrix = virial_matrix(needles, cross, rings)
-    assert float(matrix.sel(species_i="A", species_j="B")) == pytest.approx(float(cross.mean()) / 2)
-    assert float(mixture_second_virial(matrix, 1.0)) == pytest.approx(float(second_virial(needles)))
-    assert float(mixture_second_virial(matrix, 0.0)) == pytest.approx(2 * math.pi * radius**2)
+    table = [[needles, cross], [cross, rings]]
+    matrix = mixture_second_virial(table, [0.5, 0.5]).second_virial_matrix
+    assert float(matrix.sel(species_i=0, species_j=1)) == pytest.approx(float(cross.mean()) / 2)
+    mixture = {x: float(mixture_second_virial(table, [x, 1 - x]).second_virial_coefficient) for x in (0, 0.5, 1)}
+    assert mixture[1] == pytest.approx(float(second_virial(needles)))
+    assert mixture[0] == pytest.approx(2 * math.pi * radius**2)
     half = 0.25 * (float(matrix[0, 0]) + 2 * float(matrix[0, 1]) + float(matrix[1, 1]))
-    assert float(mixture_second_virial(matrix, 0.5)) == pytest.approx(half)
+    assert mixture[0.5] == pytest.approx(half)
 
 
 def test_entanglement_and_contact_quantities_from_analyze():
@@ -158,7 +160,8 @@ def test_thick_needle_spectrum_in_closed_form():
 def test_onsager_takes_what_excluded_area_returns_and_carries_its_error_bars():
     """B₂ of two needles of length 2 is ⟨4 |sin φ|⟩ / 2 = 4/π, with half of ⟨A_ex⟩'s bar; the instabilities
     run over ``order`` as in sweeps; the per-φ bars are carried as bounds."""
-    from sesp import excluded_area, scanline_excluded_area
+    from sesp import excluded_area
+    from sesp.measures import scanline_excluded_area
 
     needle = Polyline([[-1.0, 0.0], [1.0, 0.0]])
     area = excluded_area(needle)
@@ -180,7 +183,7 @@ def test_onsager_takes_what_excluded_area_returns_and_carries_its_error_bars():
     [
         (lambda: second_virial(xr.Dataset({"other": 1.0})), "needs the variable excluded_area"),
         (lambda: second_virial(xr.DataArray([1.0, 2.0], dims="x")), "'phi' dimension"),
-        (lambda: mixture_second_virial(xr.DataArray(0.0), 1.5), "fraction_a"),
+        (lambda: mixture_second_virial([[xr.DataArray(0.0)]], [1.5]), "fractions"),
         (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16).expand_dims(n=[1, 2]), 1.0), "alone"),
         (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16), -1.0), "density"),
     ],

@@ -32,10 +32,10 @@ def test_needles_order_continuously_at_three_pi_over_two():
     assert (found.stable_order.where(found.density > 1.02 * 3 * math.pi / 2, drop=True) == 2).all()
     slopes = []
     for excess in (0.005, 0.01, 0.02):
-        s2 = onsager_solution(_area(np.abs(np.sin(PHI))), 3 * math.pi / 2 * (1 + excess))["order"][1]
+        s2 = float(onsager_solution(_area(np.abs(np.sin(PHI))), 3 * math.pi / 2 * (1 + excess)).order_parameter[1])
         slopes.append(s2**2 / excess)
     assert max(slopes) / min(slopes) < 1.05
-    below = onsager_solution(_area(np.abs(np.sin(PHI))), 0.98 * 3 * math.pi / 2)["order"][1]
+    below = float(onsager_solution(_area(np.abs(np.sin(PHI))), 0.98 * 3 * math.pi / 2).order_parameter.sel(k=2))
     assert abs(below) < 1e-6  # the solver stops within 1e-10 of ψ: ⟨cos 2φ⟩ within 1e-6 of 0
 
 
@@ -71,9 +71,11 @@ def test_a_shape_that_never_orders_is_a_clear_error():
 def test_first_transition_and_its_figure(tmp_path):
     """Needles: nematic, continuous, at 3π/2; a closed circle: none; the figure draws both."""
     needles = first_transition(_area(np.abs(np.sin(PHI))))
-    assert needles["order"] == 2 and needles["continuous"]
-    assert needles["density"] == pytest.approx(3 * math.pi / 2, rel=1e-3) == needles["ordered_density"]
-    assert first_transition(_area(np.full(512, 4 * math.pi)))["order"] == 0
+    assert int(needles.transition_order) == 2 and int(needles.continuous) == 1
+    density = float(needles.transition_density)
+    assert density == pytest.approx(3 * math.pi / 2, rel=1e-3) == float(needles.ordered_density)
+    assert 0 <= float(needles.transition_density_error) < 1e-3 * density  # ρ*₂'s own bar: the exact |sin φ|
+    assert int(first_transition(_area(np.full(512, 4 * math.pi))).transition_order) == 0
     ds = xr.Dataset(
         {
             "transition_density": (("n", "opening"), [[3 * math.pi / 2, math.nan]]),
@@ -141,18 +143,17 @@ def test_parsons_lee_thermodynamics_of_the_isotropic_state_are_the_hard_disk_flu
     """Isotropic hard disks (E = ⟨A_ex⟩ = 4a): the Parsons–Lee pressure and chemical potential are the
     scaled-particle theory's, βP/ρ = 1/(1 − η)² and βμ − ln ρ = −ln(1 − η) + η(3 − 2η)/(1 − η)²; at a = 0 the
     second-virial ρ + ρ²E/2 and ln ρ + ρE."""
-    from sesp.onsager import _thermodynamics
-
     a = 0.3
     for eta in (0.05, 0.4, 0.8):
         rho = eta / a
-        found = _thermodynamics(rho, 0.0, 4 * a, a)
-        assert found["pressure"] / rho == pytest.approx(1 / (1 - eta) ** 2, rel=1e-12)
+        found = onsager_solution(_area(np.full(len(PHI), 4 * a)), rho, particle_area=a)  # isotropic: ψ = 1/2π
+        pressure, potential = float(found.pressure), float(found.chemical_potential)
+        assert pressure / rho == pytest.approx(1 / (1 - eta) ** 2, rel=1e-12)
         excess = -math.log(1 - eta) + eta * (3 - 2 * eta) / (1 - eta) ** 2
-        assert found["chemical_potential"] - math.log(rho) == pytest.approx(excess, rel=1e-12)
-        assert found["chemical_potential"] == pytest.approx(found["free_energy"] + found["pressure"] / rho)
-    plain = _thermodynamics(2.0, 0.1, 3.0)
-    assert (plain["pressure"], plain["chemical_potential"]) == pytest.approx((2 + 4 * 1.5, math.log(2) + 0.1 + 6))
+        assert potential - math.log(rho) == pytest.approx(excess, rel=1e-9)
+        assert potential == pytest.approx(float(found.free_energy) + pressure / rho)
+    plain = onsager_solution(_area(np.full(len(PHI), 3.0)), 2.0)
+    assert (float(plain.pressure), float(plain.chemical_potential)) == pytest.approx((2 + 4 * 1.5, math.log(2) + 6))
 
 
 @pytest.mark.slow

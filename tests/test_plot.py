@@ -107,18 +107,21 @@ def test_curves_shade_their_error_bars(sweep_ds, tmp_path):
 
 
 @pytest.mark.slow
-def test_topology_plot(topology_ds, tmp_path):
-    fig = plot.topology_plot(topology_ds)
-    top = fig.axes[0]
-    assert top.get_title() == "certified at resolution 0.05 b"
-    drawn = [list(line.get_ydata()) for line in top.lines][:1]
-    assert drawn == [topology_ds.excluded_components.sel(n=2).values.tolist()]
+def test_count_plot_of_a_sweep(topology_ds, tmp_path):
+    """One line per n, integer count ticks, every component's depth and the depth that decides the count."""
+    fig = plot.count_plot(topology_ds)
+    top, bottom = fig.axes[0], fig.axes[1]
+    assert fig.get_suptitle() == "excluded components at resolution 0.05 b"
+    assert list(top.lines[0].get_ydata()) == topology_ds.excluded_components.sel(n=2).values.tolist()
     ticks = [t for t in top.get_yticks() if top.get_ylim()[0] <= t <= top.get_ylim()[1]]
     assert ticks and all(float(t).is_integer() for t in ticks)
+    assert top.get_ylim()[1] == int(topology_ds.excluded_components.max()) + 1.3
+    bar = [line for line in bottom.lines if line.get_label() == "resolution + rim $n = 2$"]
+    assert bar and np.allclose(bar[0].get_ydata(), 0.05 + topology_ds.component_rim.sel(n=2).values)
     assert_not_blank(_save(fig, tmp_path / "t.png"))
 
 
-def test_transitions_plot_shades_brackets_marks_undecided_counts_and_names_the_particle(tmp_path):
+def test_count_plot_shades_brackets_marks_undecided_counts_and_names_the_particle(tmp_path):
     from sesp.certified import Certified, CertifiedComponent
     from sesp.topology import Transition, Transitions
 
@@ -134,18 +137,18 @@ def test_transitions_plot_shades_brackets_marks_undecided_counts_and_names_the_p
     rad = sorted(counts)
     changes = [Transition(rad[i], rad[i + 1], counts[rad[i]], counts[rad[i + 1]]) for i in range(4)]
     result = Transitions(counts, changes, 1e-5, math.radians(5), math.radians(0.3))
-    fig = plot.transitions_plot(result, family=SeSP(n=4))
+    fig = plot.count_plot(result, family=SeSP(n=4))
     top, zoomed = fig.axes[0], fig.axes[1]
     assert zoomed.get_xlim() == (165.0, 181.0)
     assert list(top.lines[0].get_ydata()) == [1, 2, 2, 1, 0]
     assert len(top.patches) == 4  # one bracket per change
     bars = [s[:, 1].tolist() for s in top.collections[0].get_segments()]
-    assert bars == [[2, 3], [1, 5]]  # undecided at 170° and 175°: the second cut at the largest low end + 3
-    assert top.get_ylim() == (-0.3, 5.3)  # the counts stay readable beside a high end of 434
+    assert bars == [[2, 3], [1, 3]]  # undecided at 170° and 175°: the second cut one above the largest low end
+    assert top.get_ylim() == (-0.3, 3.3)  # the counts stay readable beside a high end of 434
     assert list(top.lines[1].get_xdata()) == [175]  # ... which is marked at the cut
-    assert fig._suptitle.get_text().startswith("n = 4: excluded components at resolution 1e-05 b")
+    assert fig.get_suptitle().startswith("n = 4: excluded components at resolution 1e-05 b")
     legend = [t.get_text() for t in top.get_legend().get_texts()]
-    assert "undecided: the bracket" in legend and "bracket reaching above 5" in legend
+    assert "undecided: the bracket" in legend and "bracket reaching above 3" in legend
     assert_not_blank(_save(fig, tmp_path / "m.png"))
 
 

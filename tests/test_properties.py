@@ -6,8 +6,9 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from sesp import Grid, Polyline, SeSP, lattice_excluded_area, scan
+from sesp import Grid, Polyline, SeSP, scan
 from sesp.kernels.overlap import crossings_at_states
+from sesp.measures import lattice_excluded_area
 
 import naive
 
@@ -51,7 +52,7 @@ def test_chords_span_nearly_equal_arcs_for_convex_shapes(particle, segments):
     keeps the polyline mirror-symmetric, tests/test_shape.py) and at least a quarter of the longest. Its
     chord is never longer than its arc, and no shorter than arc · sin(α/2) across a corner of angle α; for
     n = m >= 1 the sharpest corner is the n = 1 rhombus's, α = 2 atan(min(A, 1/A))."""
-    upper = particle._vertex_arcs(segments)  # arc length from the upper end to each upper-half vertex
+    upper = particle.vertex_arcs(segments)  # arc length from the upper end to each upper-half vertex
     ends = np.concatenate([upper, particle.length - upper[::-1]])
     arcs = np.diff(np.unique(np.round(ends, 12)))
     assert arcs.size == segments

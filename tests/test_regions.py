@@ -5,7 +5,8 @@ import pytest
 import shapely
 import xarray as xr
 
-from sesp import Grid, Polyline, SeSP, allowed_orientations, scan
+from sesp import Grid, Polyline, SeSP, scan
+from sesp.orientations import allowed_orientations
 from sesp.regions import CLASSES, classify, position_summary, summarize
 
 import naive

@@ -474,14 +474,14 @@ def test_a_reading_process_that_dies_or_hangs_is_a_verdict_on_its_file(tmp_path,
     0.5 s: on a loaded machine the imports alone may take longer)."""
     from sesp import fileprobe
 
-    start = fileprobe._start
+    start = fileprobe.start_reader
     children = iter([f"print('{json.dumps(fileprobe.READY)}', flush=True); {child}", None])
 
     def started():
         code = next(children)
         return start() if code is None else _stand_in(code)
 
-    monkeypatch.setattr(fileprobe, "_start", started)
+    monkeypatch.setattr(fileprobe, "start_reader", started)
     good = tmp_path / "good.nc"
     save(scan(SeSP(n=2, opening=1.0), Grid(8, nphi=4), segments=8), good)
     verdicts = fileprobe.probe([tmp_path / "bad.nc", good], timeout=0.5)
@@ -500,7 +500,7 @@ def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_p
     is an error of the machine, raised as such, not a verdict on the file it would have read."""
     from sesp import fileprobe
 
-    monkeypatch.setattr(fileprobe, "_start", lambda: _stand_in(first))
+    monkeypatch.setattr(fileprobe, "start_reader", lambda: _stand_in(first))
     with pytest.raises(RuntimeError, match="did not start") as raised:
         fileprobe.probe([tmp_path / "any.nc"], timeout=0.5)
     assert why in str(raised.value)

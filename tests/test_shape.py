@@ -76,7 +76,7 @@ def test_vertices_are_equally_spaced_in_arc_length_within_the_flanks_and_the_bac
     alpha = np.unwrap(np.arctan2(v[:, 1], v[:, 0]) % (2 * np.pi))
     arcs = np.array([quad(lambda a: _polar_speed(p, a), lo, hi, limit=200)[0] for lo, hi in zip(alpha[:-1], alpha[1:])])
     assert arcs.sum() == pytest.approx(p.length, rel=1e-6)
-    i, j = p._flank_and_back(segments) or (0, segments)
+    i, j = p.flank_and_back(segments) or (0, segments)
     for section in (arcs[:i], arcs[i : i + j], arcs[i + j :]):
         if section.size:
             np.testing.assert_allclose(section, section.mean(), rtol=1e-5)
@@ -89,7 +89,7 @@ def test_the_polylines_flank_is_its_own_mirror_image_in_x_and_its_back_in_y(n, o
     its own in y; so are the polyline's, exactly, with a vertex at θ = π/2 when the flank has an even count."""
     p = SeSP(n=n, opening=opening)
     v = p.polyline(segments).vertices
-    i, j = p._flank_and_back(segments)
+    i, j = p.flank_and_back(segments)
     assert 2 * i + j == segments
     np.testing.assert_array_equal(v[: i + 1][::-1], v[: i + 1] * [-1, 1])
     np.testing.assert_array_equal(v[i : i + j + 1][::-1], v[i : i + j + 1] * [1, -1])
@@ -107,7 +107,7 @@ def test_the_longest_chord_is_near_equal_arc_and_corners_at_the_axis_are_vertice
     v = SeSP(n=2, opening=psi).polyline(256).vertices
     chord = np.hypot(*np.diff(v, axis=0).T).max()
     assert 2 * math.asin(chord / 2) <= 1.03 * (2 * math.pi - psi) / 256
-    split = SeSP(n=1, opening=psi)._flank_and_back(256) is not None
+    split = SeSP(n=1, opening=psi).flank_and_back(256) is not None
     assert split == (10.25 <= degrees <= 174.75)  # the range shape.SeSP.polyline states
     assert (SeSP(n=1, opening=psi).departure(256) < 1e-12) == split
 
@@ -194,6 +194,6 @@ def test_the_mirror_symmetric_split_departs_from_the_curve_within_5_percent_of_e
     polyline of exactly equal arc does (docs/design.md §1), over openings from 5° to 179°."""
     openings = [math.radians(d) for d in (5, 30, 90, 150, 170, 179)]
     symmetric = [SeSP(n=n, opening=psi).departure(256) for psi in openings]
-    monkeypatch.setattr(SeSP, "_flank_and_back", lambda self, segments: None)
+    monkeypatch.setattr(SeSP, "flank_and_back", lambda self, segments: None)
     equal_arc = [SeSP(n=n, opening=psi).departure(256) for psi in openings]
     assert max(s / e for s, e in zip(symmetric, equal_arc)) <= 1.05

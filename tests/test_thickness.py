@@ -7,17 +7,9 @@ import numpy as np
 import pytest
 import shapely
 
-from sesp import (
-    Grid,
-    Pair,
-    Polyline,
-    SeSP,
-    allowed_orientations,
-    monte_carlo,
-    scan,
-    shifted_excluded_area,
-)
-from sesp.measures import excluded_perimeter
+from sesp import Grid, Pair, Polyline, SeSP, scan
+from sesp.measures import excluded_perimeter, monte_carlo, shifted_excluded_area
+from sesp.orientations import allowed_orientations
 
 from cases import ZED, interval_disagreements
 
@@ -147,7 +139,7 @@ def _h(array):
 
 
 def test_zero_thickness_is_the_thin_engine_bit_for_bit(monkeypatch):
-    monkeypatch.setattr(SeSP, "_flank_and_back", lambda self, segments: None)  # equal arc, as in 196a67c
+    monkeypatch.setattr(SeSP, "flank_and_back", lambda self, segments: None)  # equal arc, as in 196a67c
     ds = scan(SeSP(n=8, opening=1.0, thickness=0.0), Grid(33, nphi=16), segments=40, crossings=True, entangled=True)
     assert (_h(ds.allowed.values), _h(ds.crossings.values), _h(ds.entangled.values)) == THIN_HASHES["n8"]
     ds = scan(SeSP(n=2, opening=2.0), Grid(32, nphi=12), other=ZED, segments=24, crossings=True, entangled=True,

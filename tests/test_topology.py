@@ -4,12 +4,13 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from sesp import Grid, SeSP, scan, topology
 from sesp.certified import Certified
-from sesp.progress import _NoProgress
+from sesp.progress import NoProgress
 from sesp.regions import summarize
-from sesp.topology import _labelled, lattice_components, opening_family, transitions
+from sesp.topology import changed, lattice_components, opening_family, transitions
 
 COARSE = dict(resolution=1e-2, segments=128)  # b: the certified engine in about half a second per opening
 
@@ -19,7 +20,12 @@ def test_face_joined_components_are_sorted_and_measured_and_a_corner_does_not_jo
     mask[1:4, 1:4] = True  # 9 nodes
     mask[4, 4] = True  # touches the first only at a corner: apart
     mask[6:9, 2:8] = True  # 18 nodes
-    found = _labelled(mask, False, 0.5, 0.1)
+    summary = xr.Dataset(  # excluded where no orientation is allowed; cells 0.1 b by 5 b
+        {"allowed_fraction": (("y", "x"), np.where(mask, 0.0, 1.0))},
+        coords={"x": 0.1 * np.arange(10), "y": 5.0 * np.arange(10)},
+    )
+    found = lattice_components(summary)
+    assert found.spacing == pytest.approx(0.1)
     assert found.count == 3
     assert found.sizes.tolist() == [18, 9, 1]
     assert found.areas.tolist() == [9.0, 4.5, 0.5]
@@ -32,8 +38,12 @@ def test_periodic_axis_joins_components_across_the_seam():
     field[:4, 3:9, 3:9] = True  # first 4 slices ...
     field[-4:, 3:9, 3:9] = True  # ... and last 4 slices are one blob through φ = 0
     field[8:13, 3:9, 3:9] = True  # a separate blob in the middle
-    assert _labelled(field, False, 1.0, 1.0).count == 3
-    assert _labelled(field, True, 1.0, 1.0).count == 2
+    ds = xr.Dataset(
+        {"allowed": (("phi", "y", "x"), field)},
+        coords={"phi": 2 * np.pi * np.arange(20) / 20, "y": np.arange(12.0), "x": np.arange(12.0)},
+    )
+    found = lattice_components(ds, "allowed")
+    assert found.count == 2 and found.sizes.tolist() == [8 * 36, 5 * 36]
 
 
 def test_allowed_states_wrap_in_phi_and_the_field_name_is_checked():
@@ -65,7 +75,7 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
     its total (it grows where a step holds two changes)."""
     bars = []
 
-    class Bar(_NoProgress):
+    class Bar(NoProgress):
         def __init__(self, total, enabled, desc, unit="it"):
             self.total, self.done = total, 0
             bars.append(self)
@@ -159,10 +169,10 @@ def test_a_step_is_bisected_where_what_is_known_of_the_count_changes():
     def at(low, high):
         return Certified(low, high, 1e-5, 1e-3, 2.5e-6)
 
-    assert topology._changed(at(2, 2), at(1, 1)) and topology._changed(at(2, 2), at(2, 4))
-    assert topology._changed(at(1, 3), at(1, 1)) and topology._changed(at(0, 1), at(2, 3))
-    assert not topology._changed(at(2, 2), at(2, 2)) and not topology._changed(at(2, 4), at(1, 3))
-    assert not topology._changed(at(2, 5), at(0, 2))
+    assert changed(at(2, 2), at(1, 1)) and changed(at(2, 2), at(2, 4))
+    assert changed(at(1, 3), at(1, 1)) and changed(at(0, 1), at(2, 3))
+    assert not changed(at(2, 2), at(2, 2)) and not changed(at(2, 4), at(1, 3))
+    assert not changed(at(2, 5), at(0, 2))
 
 
 def test_the_default_step_is_halved_to_the_width_in_four_counts(monkeypatch):

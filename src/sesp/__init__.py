@@ -5,36 +5,40 @@ particles (SeSPs) may take, how much area one excludes from the other, and how
 the allowed space changes shape as the opening closes — computed on a regular
 (x, y, φ) grid with exact cross-checks.
 
-The public API is this module's ``__all__``; ``docs/design.md`` maps the
-modules behind it.
+The public API is this module's ``__all__``: one call per question. The
+other estimators of A_ex and the field's own measures are in
+:mod:`sesp.measures`, the position classes in :mod:`sesp.regions`, the
+orientations at one position in :mod:`sesp.orientations`, virial
+coefficients in :mod:`sesp.virial`, phase behaviour in :mod:`sesp.onsager`;
+``docs/design.md`` maps the modules behind them.
 """
 
-from . import exact, onsager, plot, topology, version, virial
+from . import (
+    certified,
+    dataset,
+    exact,
+    field,
+    measures,
+    onsager,
+    orientations,
+    plot,
+    regions,
+    topology,
+    version,
+    virial,
+)
 from .analysis import analyze
 from .certified import Certified, certified_components
-from .dataset import SespFileError, cell_area, grid_of, pair_of
-from .field import ENGINES, iter_slices, monte_carlo, reduce, scan
+from .dataset import SespFileError
+from .field import scan
 from .grid import Grid
 from .io import load, save
-from .measures import (
-    closed_excluded_area,
-    convex_excluded_area,
-    excluded_area,
-    kinematic_integral,
-    lattice_excluded_area,
-    lattice_excluded_area_error,
-    normalized_excluded_area,
-    scanline_excluded_area,
-    shifted_excluded_area,
-    smooth_excluded_area,
-)
-from .orientations import allowed_orientations, blocked_orientations, widest_window
+from .measures import excluded_area
 from .pair import Pair
-from .reductions import Reduction
-from .regions import CLASSES, classify, position_summary, summarize
+from .regions import classify
 from .report import describe
 from .shape import Polyline, SeSP
-from .topology import LatticeComponents, Transitions, lattice_components, transitions
+from .topology import Transitions, transitions
 
 __version__ = version.__version__
 
@@ -45,52 +49,31 @@ __all__ = [
     "Polyline",
     "Pair",
     "Grid",
-    # the field and its reductions
+    # the field of allowed states, and one analysis of a pair
     "scan",
-    "reduce",
-    "iter_slices",
-    "Reduction",
     "analyze",
-    "monte_carlo",
-    "ENGINES",
-    # measures
+    # the answers, one call each
     "excluded_area",
-    "lattice_excluded_area",
-    "lattice_excluded_area_error",
-    "scanline_excluded_area",
-    "smooth_excluded_area",
-    "shifted_excluded_area",
-    "normalized_excluded_area",
-    "closed_excluded_area",
-    "convex_excluded_area",
-    "kinematic_integral",
-    # positions and orientations
-    "CLASSES",
-    "summarize",
     "classify",
-    "position_summary",
-    "allowed_orientations",
-    "blocked_orientations",
-    "widest_window",
-    # topology
     "certified_components",
-    "Certified",
     "transitions",
+    "Certified",
     "Transitions",
-    "lattice_components",
-    "LatticeComponents",
-    # files and datasets
+    # files
     "save",
     "load",
-    "SespFileError",
-    "grid_of",
-    "pair_of",
-    "cell_area",
     "describe",
+    "SespFileError",
     # modules
+    "certified",
+    "dataset",
     "exact",
+    "field",
+    "measures",
     "onsager",
+    "orientations",
     "plot",
+    "regions",
     "topology",
     "virial",
 ]

@@ -18,7 +18,7 @@ from .checks import check_resolution
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .field import reduce, resolve_grid, working_bytes
 from .grid import Grid
-from .measures import RTOL, closed_shape_excluded_area, excluded_area
+from .measures import RTOL, closed_excluded_area, excluded_area
 from .onsager import first_transition, onsager_variables, particle_area
 from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
@@ -99,7 +99,7 @@ def analyze(
           settings it reached; ``normalized_excluded_area(phi)``,
           ``mean_normalized_excluded_area``, and ``closed_excluded_area``
           (b², the reference of the normalisation, the closed shapes' smooth
-          curves, :func:`sesp.measures.closed_shape_excluded_area`; NaN for
+          curves, :func:`sesp.measures.closed_excluded_area`; NaN for
           polylines, which have no closed shape); and what
           :func:`sesp.onsager.onsager_variables` derives from the refined
           A_ex(φ), as ``sesp area``: the second virial coefficient (±
@@ -238,8 +238,8 @@ def _at_orientations(best, particle, other, phi) -> xr.Dataset:
 
 
 def _add_normalized(ds, pair, rtol):
-    """A_ex normalised by the closed shapes' (measured alike: :func:`closed_shape_excluded_area`), in place."""
-    reference = closed_shape_excluded_area(pair, rtol)
+    """A_ex normalised by the closed shapes' (measured alike: :func:`sesp.measures.closed_excluded_area`), in place."""
+    reference = closed_excluded_area(pair, rtol=rtol)
     area = ds.excluded_area
     ds["normalized_excluded_area"] = (area / reference).assign_attrs(
         units="1", long_name="A_ex(φ) / A_ex of the closed shape"
@@ -263,29 +263,16 @@ def _add_phases(ds, best, pair):
     second-virial (Onsager) theory, and in Parsons–Lee theory with the particle's area (the same for thin
     particles; NaN for a mixture's pair)."""
     found = first_transition(best)
-    ds["transition_order"] = xr.DataArray(found["order"], attrs={"units": "1", "long_name": "k of the first order"})
-    ds["transition_density"] = xr.DataArray(
-        found["density"], attrs={**DENSITY, "long_name": "isotropic density at the first transition"}
-    )
-    ds["ordered_density"] = xr.DataArray(
-        found["ordered_density"], attrs={**DENSITY, "long_name": "ordered density at the first transition"}
-    )
-    ds["continuous"] = xr.DataArray(int(found["continuous"]), attrs={"units": "1", "long_name": "1: continuous"})
-    bar = math.nan  # the error bar of a continuous transition's density: its instability's, from A_ex(φ)'s bars
-    if found["continuous"] and "instability_density_error" in ds and found["order"] in ds.order:
-        bar = float(ds.instability_density_error.sel(order=found["order"]))
-    ds["transition_density_error"] = xr.DataArray(
-        bar, attrs={**DENSITY, "long_name": "error bar of a continuous transition's density (NaN: first order)"}
-    )
+    ds.update(found)
     area = particle_area(pair.particle) if pair.identical else math.nan
-    if math.isnan(area):
-        found = {"density": math.nan, "ordered_density": math.nan}
-    elif area > 0:  # a thin particle's Parsons–Lee densities are its second-virial ones
-        found = first_transition(best, particle_area=area)
+    if area > 0:
+        parsons_lee = first_transition(best, particle_area=area)
+    else:  # a thin particle's Parsons–Lee densities are its second-virial ones
+        parsons_lee = found if area == 0 else found.map(lambda v: v * math.nan)
     ds["particle_area"] = xr.DataArray(area, attrs={**AREA, "long_name": "area a the thick particle covers"})
-    for name, key, what in (("transition", "density", "isotropic"), ("ordered", "ordered_density", "ordered")):
-        ds[f"parsons_lee_{name}_density"] = xr.DataArray(
-            found[key], attrs={**DENSITY, "long_name": f"{what} density at the first transition, Parsons-Lee"}
+    for name, what in (("transition", "isotropic"), ("ordered", "ordered")):
+        ds[f"parsons_lee_{name}_density"] = parsons_lee[f"{name}_density"].assign_attrs(
+            **DENSITY, long_name=f"{what} density at the first transition, Parsons-Lee"
         )
 
 

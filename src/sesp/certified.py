@@ -285,7 +285,7 @@ def allowed_positions(particle, x, y, *, other=None, hint=None, segments: int = 
     cell's centre, and an orientation (rad) allowed there (NaN where not allowed).
 
     Allowed where the curves keep apart at ``hint`` (rad, per position; NaN or None: no hint), excluded where
-    the depth certificate proves the position excluded, the exact windows in φ (:func:`sesp.widest_window`)
+    the depth certificate proves the position excluded, the exact windows in φ (:func:`sesp.orientations.widest_window`)
     deciding the rest. Every position the windows allow is allowed; a hint also finds allowed positions whose
     windows are narrower than the windows resolve (the apex of a pinch's allowed wedge)."""
     pair = as_pair(particle, other, segments=segments)

@@ -13,10 +13,10 @@ __all__ = ["main"]
 log = logging.getLogger("sesp")
 
 USER_ERRORS = (ValueError, MemoryError, OSError, KeyError)
-CERTIFIED_KERNELS = ("orientations", "depth", "cells")  # the kernel modules a certified count compiles
+CERTIFIED_KERNELS = ("orientations", "runs", "tips", "depth", "cells")  # the kernel modules a certified count compiles
 
 
-def _kernels_cached(modules) -> bool:
+def kernels_cached(modules) -> bool:
     """True when numba's on-disk cache holds compiled kernels of each of ``modules`` (names in
     :mod:`sesp.kernels`) for this install."""
     import numba
@@ -29,7 +29,7 @@ def _kernels_cached(modules) -> bool:
 
 def _announce_compile(*modules):
     """Say so where the kernels of ``modules`` (the command's own) are not compiled yet."""
-    if not _kernels_cached(modules):
+    if not kernels_cached(modules):
         print("sesp: compiling numba kernels (first run only, about a minute)...", file=sys.stderr)
 
 
@@ -300,7 +300,7 @@ def _cmd_topology(args) -> int:
                           "base": args.base, **found.to_dict()}))  # fmt: skip
     else:
         print(found)
-    _save_map_plot(args.plot, "transitions_plot", found, family=family)
+    _save_map_plot(args.plot, "count_plot", found, family=family)
     return 0
 
 
@@ -383,7 +383,7 @@ def _add_sweep(sub):
     p.set_defaults(func=_cmd_sweep)
 
 
-def _sweep_kernels(keep) -> tuple:
+def sweep_kernels(keep) -> tuple:
     """The kernel modules a sweep point compiles: a scan's, and a certified count's where ``keep`` has topology."""
     return ("overlap", "scanline", *(CERTIFIED_KERNELS if "topology" in keep else ()))
 
@@ -394,7 +394,7 @@ def _cmd_sweep(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
     spec = load_spec(args.file, output=args.output)
-    _announce_compile(*_sweep_kernels(spec.keep))
+    _announce_compile(*sweep_kernels(spec.keep))
     try:
         target = run(
             args.file, output=args.output, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet

@@ -47,6 +47,9 @@ CHUNK_BYTES = 1 << 27
 # Bytes per state of one chunk that a pass holds while computing a field (counts, flags, hull field, mirror
 # copies), by field computed; an upper bound of the measured peak (tests/test_reliability.py).
 WORKING_BYTES_PER_STATE = {"allowed": 4, "crossings": 4, "entangled": 8}
+# Bytes a pass holds whatever its grid: its coordinates, attributes, checksum and the interpreter's own allocations
+# (a 1024² × 1 scan's peak rose 0.06-0.21 MB above its arrays' 5 MiB, tests/test_reliability.py).
+PASS_OVERHEAD = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -105,9 +108,9 @@ def _phi_chunk(grid: Grid) -> int:
 
 def working_bytes(grid: Grid, computed=("allowed",), per_position: int = 0) -> int:
     """Bytes a pass over ``grid`` holds besides its stored fields: one chunk of slices of the ``computed``
-    fields with their mirror images, and ``per_position`` bytes of running sums per (x, y)."""
+    fields with their mirror images, ``per_position`` bytes of running sums per (x, y), and PASS_OVERHEAD."""
     per_state = sum(WORKING_BYTES_PER_STATE[f] for f in computed)
-    return grid.nx * grid.ny * (_phi_chunk(grid) * per_state + per_position)
+    return grid.nx * grid.ny * (_phi_chunk(grid) * per_state + per_position) + PASS_OVERHEAD
 
 
 def _compute(pair: Pair, grid: Grid, k0, k1, engine, crossings, entangled) -> Slices:
@@ -305,7 +308,8 @@ def monte_carlo(
     Examples
     --------
     >>> import numpy as np
-    >>> from sesp import SeSP, monte_carlo
+    >>> from sesp import SeSP
+    >>> from sesp.measures import monte_carlo
     >>> mc = monte_carlo(SeSP(n=2, opening=np.pi / 2), samples=1000, seed=1)
     >>> float(mc.excluded_area) > 0
     True
@@ -319,7 +323,7 @@ def monte_carlo(
     overlap_ = overlap.state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance, contact=pair.contact)
     overlap_ = overlap_ > 0
     p = overlap_.mean()
-    attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
+    attrs = {**base_attrs("sesp.measures.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
     area = dict(AREA)
     return xr.Dataset(
         {

@@ -85,7 +85,7 @@ def _serve() -> None:
         sys.stdout.flush()
 
 
-def _start() -> subprocess.Popen:
+def start_reader() -> subprocess.Popen:
     return subprocess.Popen(
         [sys.executable, "-I", __file__],  # -I: nothing from the working folder or the user's site is imported
         stdin=subprocess.PIPE,
@@ -105,7 +105,7 @@ def _line(child: subprocess.Popen, timeout: float) -> str | None:
 def _started() -> subprocess.Popen:
     """A reading process that has said READY; RuntimeError, saying why, where it says nothing else within
     START_TIMEOUT, ends first, or says something else first."""
-    child = _start()
+    child = start_reader()
     said = _line(child, START_TIMEOUT)
     if said is not None and said.strip() == json.dumps(READY):
         return child

@@ -8,7 +8,6 @@ A_ex = (1/2π) ∫ A_ex(φ) dφ = dx · dy · (excluded states) / nphi, in b².
 from __future__ import annotations
 
 import math
-import sys
 import warnings
 
 import numpy as np
@@ -17,15 +16,17 @@ import xarray as xr
 from .checks import check_choice, check_count, check_positive
 from .dataset import base_attrs, cell_area, grid_attrs, grid_of, pair_attrs, pair_of
 from .exact import superellipse_area, superellipse_perimeter
-from .field import computed_slices, resolve_grid, scan
+from .field import computed_slices, monte_carlo, resolve_grid, scan
 from .grid import Grid
 from .kernels import overlap, scanline
 from .pair import Pair, as_pair
+from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
 from .units import AREA, LENGTH
 
 __all__ = [
     "excluded_area",
+    "monte_carlo",
     "lattice_excluded_area",
     "lattice_excluded_area_error",
     "shifted_excluded_area",
@@ -34,8 +35,6 @@ __all__ = [
     "lattice_shifts",
     "normalized_excluded_area",
     "closed_excluded_area",
-    "closed_pair_excluded_area",
-    "closed_shape_excluded_area",
     "convex_excluded_area",
     "kinematic_integral",
     "excluded_perimeter",
@@ -69,7 +68,8 @@ def lattice_excluded_area(ds: xr.Dataset, *, by: str | None = None):
     Examples
     --------
     >>> import numpy as np
-    >>> from sesp import Grid, SeSP, lattice_excluded_area, scan
+    >>> from sesp import Grid, SeSP, scan
+    >>> from sesp.measures import lattice_excluded_area
     >>> ds = scan(SeSP(n=2), Grid(128, nphi=4), segments=128)
     >>> round(lattice_excluded_area(ds) / (4 * np.pi), 2)
     1.0
@@ -184,7 +184,7 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
         **grid_attrs(grid),
         "engine": "raster",
     }
-    attrs["sesp_format"] = "sesp.shifted_excluded_area"
+    attrs["sesp_format"] = "sesp.measures.shifted_excluded_area"
     return xr.DataArray(
         per_phi, coords={"phi": ("phi", grid.phi, {"units": "rad"})}, dims="phi", name="excluded_area", attrs=attrs
     )
@@ -294,7 +294,7 @@ def _scanline_dataset(pair: Pair, nphi: int, rows: int, memo: dict) -> xr.Datase
     # the mean's error from the means of the levels (their errors share a sign across φ), and the φ quadrature
     mean_error = abs(levels[0].mean() - levels[1].mean()) + abs(levels[1].mean() - levels[2].mean())
     attrs = {**base_attrs("sesp.summary"), **pair_attrs(pair), "nphi": nphi, "rows": rows}
-    attrs["sesp_format"] = "sesp.scanline_excluded_area"
+    attrs["sesp_format"] = "sesp.measures.scanline_excluded_area"
     attrs.update(mean_error_lines=mean_error, mean_error_phi=_phi_quadrature_error(area))
     phi = 2 * np.pi * np.arange(nphi) / nphi
     return _area_dataset(phi, area, error, mean_error + attrs["mean_error_phi"], attrs)
@@ -354,7 +354,7 @@ def _smooth_dataset(particle, other, segments: int, nphi: int, rows: int, memo: 
     areas = [ds.excluded_area.values for ds in levels]
     fine, coarse = ((4 * a - b) / 3 for a, b in zip(areas, areas[1:], strict=False))
     error = levels[0].excluded_area_error.values + np.abs(fine - coarse)
-    attrs = {**levels[0].attrs, "sesp_format": "sesp.smooth_excluded_area"}
+    attrs = {**levels[0].attrs, "sesp_format": "sesp.measures.smooth_excluded_area"}
     attrs["mean_error_polygon"] = abs(fine.mean() - coarse.mean())
     mean_error = float(levels[0].mean_excluded_area_error) + attrs["mean_error_polygon"]
     return _area_dataset(levels[0].phi.values, fine, error, mean_error, attrs)
@@ -402,6 +402,16 @@ def _next_setting(ds: xr.Dataset, settings: dict, free: set, target: float) -> s
     return max(growing, key=parts.get)
 
 
+def _warn_not_met(ds, settings, rtol, mean, error) -> None:
+    parts = ", ".join(f"{name} {ds.attrs.get(part, 0.0):.1g}" for part, name in _REFINES.items())
+    warnings.warn(
+        f"excluded_area: rtol {rtol:g} not met: <A_ex> = {mean:.9g} ± {error:.2g} b^2 (relative "
+        f"{error / abs(mean):.2g}) at {settings}; the error's parts by setting: {parts} b^2, and the "
+        f"settings given stay as given (largest refined: {LARGEST})",
+        stacklevel=3,
+    )
+
+
 def excluded_area(
     particle,
     other=None,
@@ -440,7 +450,7 @@ def excluded_area(
     rows : int, optional
         Scanline spacings (a multiple of 8), refined from 2048 (smooth curves) or 512 (polygons).
     progress : bool
-        Print each refinement step (settings, ⟨A_ex⟩ and its error bar) to stderr.
+        A progress bar over the refinement steps, showing each step's settings, ⟨A_ex⟩ and its error bar.
 
     Returns
     -------
@@ -473,28 +483,23 @@ def excluded_area(
         free.discard("segments")
         settings["segments"] = particle.segments
     memo = {}  # the trapezoids of every evaluation: each refinement step measures only what is new
-    while True:
-        pair = as_pair(particle, other, settings["segments"])
-        ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"], memo)
-        settings["rows"] = int(ds.attrs["rows"])
-        mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
-        if progress:
-            print(f"excluded_area: {settings} <A_ex> = {mean:.9g} ± {error:.2g} b^2", file=sys.stderr)
-        if rtol is None or error <= rtol * abs(mean):
-            converged = True
-            break
-        step = _next_setting(ds, settings, free, rtol * abs(mean))
-        if step is None:
-            converged = False
-            parts = ", ".join(f"{name} {ds.attrs.get(part, 0.0):.1g}" for part, name in _REFINES.items())
-            warnings.warn(
-                f"excluded_area: rtol {rtol:g} not met: <A_ex> = {mean:.9g} ± {error:.2g} b^2 (relative "
-                f"{error / abs(mean):.2g}) at {settings}; the error's parts by setting: {parts} b^2, and the "
-                f"settings given stay as given (largest refined: {LARGEST})",
-                stacklevel=2,
-            )
-            break
-        settings[step] *= 2
+    with progress_bar(None, progress, "excluded_area", unit="step") as bar:
+        while True:
+            pair = as_pair(particle, other, settings["segments"])
+            ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"], memo)
+            settings["rows"] = int(ds.attrs["rows"])
+            mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
+            bar.set_postfix_str(f"{settings} <A_ex> = {mean:.9g} ± {error:.2g} b^2")
+            bar.update(1)
+            if rtol is None or error <= rtol * abs(mean):
+                converged = True
+                break
+            step = _next_setting(ds, settings, free, rtol * abs(mean))
+            if step is None:
+                converged = False
+                _warn_not_met(ds, settings, rtol, mean, error)
+                break
+            settings[step] *= 2
     ds.attrs.update(segments=settings["segments"], rtol=np.nan if rtol is None else rtol, converged=int(converged))
     return ds
 
@@ -520,26 +525,20 @@ def _convex_mean(area: float, perimeter: float, contact: float) -> float:
     return 2 * area + perimeter**2 / (2 * math.pi) + 2 * perimeter * contact + math.pi * contact**2
 
 
-def closed_pair_excluded_area(pair: Pair, grid: Grid) -> float:
-    """Orientation-averaged excluded area of ``pair`` with both SeSPs closed (Ψ = 0), in b².
+def closed_excluded_area(source, *, rtol: float = RTOL) -> float:
+    """⟨A_ex⟩ (b²) of the pair's particles closed (Ψ = 0), measured as the quantity it normalises.
 
-    For identical SeSPs with n, m >= 1 (convex) this is exact:
-    2·Area + P²/2π of the closed polygon with the pair's segments, plus
-    2·P·D + π·D² for particles of thickness D (Steiner's formula). Otherwise
-    the closed shapes are scanned with ``grid``'s resolution (their own box).
-    """
-    closed = pair.closed()
-    if pair.identical and pair.particle.is_convex_closed:
-        curve = closed.curve1
-        return _convex_mean(curve.area, curve.length, pair.contact)
-    return lattice_excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
-
-
-def closed_shape_excluded_area(pair: Pair, rtol: float = RTOL) -> float:
-    """⟨A_ex⟩ (b²) of the pair's SeSPs closed (Ψ = 0), measured as :func:`excluded_area` measures SeSPs: of
-    the smooth curves. Identical convex shapes have the exact 2·Area + P²/2π of the smooth superellipse (with
-    2·P·D + π·D² for thickness D, Steiner's formula); others :func:`excluded_area` of the closed SeSPs at
-    ``rtol``. The reference by which :func:`sesp.analyze` normalises its A_ex; NaN for polylines."""
+    ``source`` a stored field (a scan or summary): the closed polygons with the file's segments, as the field's
+    lattice count measures them: for identical convex shapes the exact 2·Area + P²/2π of the closed polygon
+    (with 2·P·D + π·D² at thickness D, Steiner's formula), otherwise a lattice count of the closed shapes at
+    the file's grid. ``source`` particles or a :class:`~sesp.Pair`: the smooth curves, as
+    :func:`excluded_area` measures SeSPs: the exact 2·Area + P²/2π of the superellipse for identical convex
+    shapes, otherwise :func:`excluded_area` of the closed SeSPs at ``rtol``; NaN for polylines, which have no
+    closed shape. The reference :func:`sesp.analyze` divides its A_ex by, and
+    :func:`normalized_excluded_area` a field's."""
+    if isinstance(source, xr.Dataset):
+        return _closed_polygons(pair_of(source), grid_of(source))
+    pair = as_pair(source)
     if not (isinstance(pair.particle, SeSP) and isinstance(pair.other, SeSP)):
         return math.nan
     closed = pair.closed()
@@ -550,12 +549,13 @@ def closed_shape_excluded_area(pair: Pair, rtol: float = RTOL) -> float:
     return float(found.mean_excluded_area)
 
 
-def closed_excluded_area(ds: xr.Dataset) -> float:
-    """Orientation-averaged excluded area of the closed shape (Ψ = 0) of a scan or summary, in b².
-
-    See :func:`closed_pair_excluded_area`.
-    """
-    return closed_pair_excluded_area(pair_of(ds), grid_of(ds))
+def _closed_polygons(pair: Pair, grid: Grid) -> float:
+    """:func:`closed_excluded_area` of a stored field's pair on its grid."""
+    closed = pair.closed()
+    if pair.identical and pair.particle.is_convex_closed:
+        curve = closed.curve1
+        return _convex_mean(curve.area, curve.length, pair.contact)
+    return lattice_excluded_area(scan(closed, Grid(grid.nx, grid.ny, grid.nphi)))
 
 
 def normalized_excluded_area(ds: xr.Dataset, *, by: str | None = None, reference: float | None = None):

@@ -5,8 +5,8 @@ what :func:`sesp.excluded_area` returns (a Dataset, whose error bars
 ``excluded_area_error(phi)`` and ``mean_excluded_area_error`` are then carried
 through as bounds), the same variables of :func:`sesp.analyze` or a collected
 sweep (whose other dimensions are carried along), or a bare DataArray
-(:func:`sesp.lattice_excluded_area` with ``by="phi"``,
-:func:`sesp.shifted_excluded_area`).
+(:func:`sesp.measures.lattice_excluded_area` with ``by="phi"``,
+:func:`sesp.measures.shifted_excluded_area`).
 
 Orientational spectrum
 ----------------------
@@ -29,7 +29,7 @@ bar of each coefficient combines two parts:
   samples. Where A_ex(−φ) is an exact copy of A_ex(φ) (mirror-symmetric
   pairs: only half the slices are computed) the propagated part is widened
   by √2. A bias shared by every φ (the fixed lattice's) is not seen by
-  either part: use shifted lattices (:func:`sesp.shifted_excluded_area`) for
+  either part: use shifted lattices (:func:`sesp.measures.shifted_excluded_area`) for
   spectra. Error bars that may share their sign across φ (the scanlines',
   which :func:`sesp.analyze` stores) are propagated with ``correlated=True``
   as the bound (2/nphi) Σ |δA(φ) trig(kφ)|, which holds for any correlation.
@@ -60,7 +60,6 @@ from .units import AREA, DENSITY
 __all__ = [
     "orientational_spectrum",
     "second_virial",
-    "virial_matrix",
     "mixture_second_virial",
     "instabilities",
     "entangled_neighbours",
@@ -225,25 +224,50 @@ def second_virial(excluded_area) -> xr.DataArray:
     return b2
 
 
-def virial_matrix(aa: xr.DataArray, ab: xr.DataArray, bb: xr.DataArray) -> xr.DataArray:
-    """B₂,ᵢⱼ = ⟨A_ex,ᵢⱼ⟩ / 2 of a binary mixture, from A_ex(φ) of the pairs AA, AB (``other=``) and BB.
+def mixture_second_virial(areas, fractions) -> xr.Dataset:
+    """B₂ of a mixture, Σᵢⱼ xᵢ xⱼ B₂,ᵢⱼ (b²), with B₂,ᵢⱼ = ⟨A_ex,ᵢⱼ⟩/2 (:func:`second_virial`).
 
-    Returns a DataArray over (``species_i``, ``species_j``) = ("A", "B"), b².
+    ``areas``: a square table (a list of rows) of A_ex between species i and j, each as
+    :func:`second_virial` takes it (the table symmetric: A_ex,ᵢⱼ of the pair i, j with ``other`` j);
+    ``fractions``: the mole fraction xᵢ of each species (≥ 0, summing to 1).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``second_virial_coefficient`` (b²) of the mixture and ``second_virial_matrix`` over (``species_i``,
+        ``species_j``); with error bars where every A_ex carries one (``_error``: Σᵢⱼ xᵢ xⱼ of the pairs').
     """
-    b = [[second_virial(aa), second_virial(ab)], [second_virial(ab), second_virial(bb)]]
-    rows = [xr.concat(row, dim="species_j") for row in b]
-    out = xr.concat(rows, dim="species_i").assign_coords(species_i=["A", "B"], species_j=["A", "B"])
-    return out.assign_attrs(**AREA, long_name="second virial coefficients B2_ij of the mixture")
-
-
-def mixture_second_virial(matrix: xr.DataArray, fraction_a: float) -> xr.DataArray:
-    """B₂ of the mixture with mole fraction ``fraction_a`` of species A: Σᵢⱼ xᵢ xⱼ B₂,ᵢⱼ, in b²."""
-    x = float(fraction_a)
-    if not 0.0 <= x <= 1.0:
-        raise ValueError(f"fraction_a must be in [0, 1], got {fraction_a!r}")
-    weights = xr.DataArray([x, 1 - x], dims="species_i", coords={"species_i": ["A", "B"]})
-    total = (matrix * weights * weights.rename(species_i="species_j")).sum(("species_i", "species_j"))
-    return total.assign_attrs(**AREA, long_name=f"mixture B2 at mole fraction {x:g} of A")
+    x = np.asarray(fractions, dtype=float).ravel()
+    if len(areas) != len(x) or any(len(row) != len(x) for row in areas):
+        raise ValueError(f"areas must be a {len(x)} x {len(x)} table, one row and column per fraction")
+    if np.any(~np.isfinite(x)) or np.any(x < 0) or abs(x.sum() - 1) > 1e-9:
+        raise ValueError(f"fractions must be mole fractions >= 0 summing to 1, got {list(fractions)}")
+    b2 = [[second_virial(a) for a in row] for row in areas]
+    species = np.arange(len(x))
+    matrix = xr.DataArray([[float(v) for v in row] for row in b2], dims=("species_i", "species_j"),
+                          coords={"species_i": species, "species_j": species})  # fmt: skip
+    weights = np.outer(x, x)
+    out = xr.Dataset(
+        {
+            "second_virial_coefficient": ((), float((weights * matrix.values).sum()),
+                                          {**AREA, "long_name": "second virial coefficient B2 of the mixture"}),
+            "second_virial_matrix": matrix.assign_attrs(**AREA, long_name="second virial coefficients B2_ij"),
+            "fraction": ("species_i", x, {"units": "1", "long_name": "mole fraction of each species"}),
+        }
+    )  # fmt: skip
+    if all("error" in v.attrs for row in b2 for v in row):
+        errors = np.array([[v.attrs["error"] for v in row] for row in b2])
+        out["second_virial_coefficient_error"] = (
+            (),
+            float((weights * errors).sum()),
+            {**AREA, "long_name": "error bar of B2"},
+        )
+        out["second_virial_matrix_error"] = (
+            ("species_i", "species_j"),
+            errors,
+            {**AREA, "long_name": "error bars of B2_ij"},
+        )
+    return out
 
 
 def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False) -> xr.Dataset:
@@ -424,20 +448,23 @@ def _solved(values, density, seed, dphi, fold: int = 1, mixing=0.5):
     return psi
 
 
-def onsager_solution(excluded_area, density: float, order: int = 2, *, strength: float = 5.0) -> dict:
+def onsager_solution(
+    excluded_area, density: float, order: int = 2, *, strength: float = 5.0, particle_area: float = 0.0
+) -> xr.Dataset:
     """The orientational distribution that makes the second-virial free energy stationary at ``density``.
 
     βF/N = ln ρ − 1 + ∫ ψ ln(2πψ) dφ + (ρ/2) ∫∫ ψ(φ) ψ(φ') A_ex(φ − φ') dφ dφ', stationary where
     ψ = exp(−ρ A_ex ∗ ψ) / Z; solved on the φ grid of ``excluded_area`` (A_ex(φ) as for
     :func:`orientational_spectrum`; its convolution is exact for the grid's rectangle rule) by damped
     iteration from ψ ∝ exp(``strength`` cos(order·φ)), kept k-fold symmetric (k = ``order``; where the grid
-    has turns by 2π/k): the k-fold solution where one exists, the isotropic one where none does.
+    has turns by 2π/k): the k-fold solution where one exists, the isotropic one where none does. With
+    ``particle_area`` a > 0 (b²) the free energy is Parsons–Lee's (:func:`phase_behaviour`).
 
     Returns
     -------
-    dict
-        ``psi`` (rad⁻¹ on the grid), ``order`` (⟨cos kφ⟩ for k = 1..6), ``free_energy`` (βF/N),
-        ``pressure`` (βP, b⁻²) and ``chemical_potential`` (βμ).
+    xarray.Dataset
+        ``psi`` (rad⁻¹, over ``phi``), ``order_parameter`` (⟨cos kφ⟩ over ``k`` = 1..6), and ``free_energy``
+        (βF/N), ``pressure`` (βP, b⁻²) and ``chemical_potential`` (βμ).
 
     Examples
     --------
@@ -445,9 +472,10 @@ def onsager_solution(excluded_area, density: float, order: int = 2, *, strength:
     >>> from sesp.onsager import onsager_solution
     >>> phi = 2 * np.pi * np.arange(256) / 256
     >>> needles = xr.DataArray(np.abs(np.sin(phi)), coords={"phi": phi}, dims="phi")  # L = 1
-    >>> bool(abs(onsager_solution(needles, 3 * np.pi / 2 * 0.9)["order"][1]) < 1e-6)  # isotropic below 3π/2
+    >>> solution = onsager_solution(needles, 3 * np.pi / 2 * 0.9)
+    >>> bool(abs(solution.order_parameter.sel(k=2)) < 1e-6)  # isotropic below 3π/2
     True
-    >>> round(float(onsager_solution(needles, 3 * np.pi / 2 * 1.2)["order"][1]), 2)  # nematic above: ⟨cos 2φ⟩
+    >>> round(float(onsager_solution(needles, 3 * np.pi / 2 * 1.2).order_parameter.sel(k=2)), 2)  # nematic
     0.62
     """
     area = _area(excluded_area)
@@ -460,8 +488,25 @@ def onsager_solution(excluded_area, density: float, order: int = 2, *, strength:
     values = area.values.astype(float)
     dphi = 2 * np.pi / len(values)
     phi = np.arange(len(values)) * dphi
-    psi = _solved(values, density, np.exp(strength * np.cos(int(order) * phi)), dphi, fold=int(order))
-    return _state(psi, values, density, dphi)
+    seed = np.exp(strength * np.cos(int(order) * phi))
+    onsager = _excess_scale(density, particle_area)[0]  # the second-virial density with the same stationary ψ
+    state = _state(_solved(values, onsager, seed, dphi, fold=int(order)), values, density, dphi, particle_area)
+    return _state_dataset(state, area.phi)
+
+
+def _state_dataset(state: dict, phi) -> xr.Dataset:
+    """A state of :func:`_state` as labelled variables."""
+    k = np.arange(1, len(state["order"]) + 1)
+    return xr.Dataset(
+        {
+            "psi": ("phi", state["psi"], {"units": "1", "long_name": "orientational distribution psi (rad^-1)"}),
+            "order_parameter": ("k", state["order"], {"units": "1", "long_name": "<cos k phi>"}),
+            "free_energy": ((), state["free_energy"], {"units": "1", "long_name": "beta F / N"}),
+            "pressure": ((), state["pressure"], {**DENSITY, "long_name": "beta P"}),
+            "chemical_potential": ((), state["chemical_potential"], {"units": "1", "long_name": "beta mu"}),
+        },
+        coords={"phi": phi.values, "k": k},
+    )
 
 
 def _isotropic_at(pressure: float, mean: float, particle_area: float) -> float:
@@ -545,84 +590,110 @@ def phase_behaviour(
     if unstable.sizes["order"] == 0:
         raise ValueError("the isotropic state never becomes unstable to these orders: no transition to follow")
     values = area.values.astype(float)
-    dphi = 2 * np.pi / len(values)
-    phi = np.arange(len(values)) * dphi
-    mean = float(values.mean())
     first = float(unstable.min())
     onsager = np.linspace(span[0] * first, span[1] * first, int(points))  # where the branches are solved
     densities = np.asarray(parsons_lee_density(onsager, particle_area), dtype=float)  # the theory's own
     ks = [int(k) for k in unstable.order.values]
-    order_parameter = np.zeros((len(densities), len(ks)))
-    free_energy = np.zeros((len(densities), len(ks)))
-    low, high, continuous = np.full(len(ks), np.nan), np.full(len(ks), np.nan), np.zeros(len(ks), dtype=int)
-    for j, k in enumerate(ks):
-        psi = np.exp(5.0 * np.cos(k * phi))
-        branch = []
-        for i in range(len(densities) - 1, -1, -1):  # down in density, each from the one above
-            psi = _solved(values, onsager[i], psi + 1e-3 * (1 + np.cos(k * phi)) / (2 * np.pi), dphi, fold=k)
-            state = _state(psi, values, densities[i], dphi, particle_area)
-            order_parameter[i, j] = state["order"][k - 1] if abs(state["order"][k - 1]) > ORDERED else 0.0
-            free_energy[i, j] = state["free_energy"]
-            if order_parameter[i, j]:
-                branch.append((densities[i], state))
-        bifurcation = float(unstable.sel(order=k))
-        below = [
-            i for i in range(len(onsager)) if order_parameter[i, j] and onsager[i] < bifurcation * (1 - 2 / points)
-        ]
-        if not onsager[0] < bifurcation < onsager[-1]:
-            continuous[j] = -1  # not reached in this span
-        elif below:  # the ordered branch reaches below the instability: first order
-            pair = _coexistence(mean, sorted(branch, key=lambda item: item[0]), particle_area)
-            if pair is not None:
-                low[j], high[j] = pair
-        else:
-            continuous[j] = 1
+    columns, kinds = [], []
+    for k in ks:
+        order_parameter, free_energy, branch = _branch(values, k, onsager, densities, particle_area)
+        columns.append((order_parameter, free_energy))
+        kinds.append(_kind(order_parameter, branch, onsager, float(unstable.sel(order=k)), values, particle_area))
+    order_parameter, free_energy = (np.column_stack(c) for c in zip(*columns))
+    mean = float(values.mean())
     isotropic = np.array([_thermodynamics(rho, 0.0, mean, particle_area)["free_energy"] for rho in densities])
     stack = np.column_stack([isotropic, np.where(order_parameter != 0, free_energy, np.inf)])
     stable = np.array([0, *ks])[np.argmin(stack, axis=1)]
-    coords = {"density": ("density", densities, dict(DENSITY)), "order": ks}
+    low, high, continuous = (np.array(c) for c in zip(*kinds))
+    bifurcation = np.asarray(parsons_lee_density(unstable.values, particle_area), dtype=float)
     return xr.Dataset(
         {
             "order_parameter": (("density", "order"), order_parameter, {"units": "1", "long_name": "<cos k phi>"}),
             "free_energy": (("density", "order"), free_energy, {"units": "1", "long_name": "beta F / N"}),
             "stable_order": ("density", stable, {"units": "1", "long_name": "k of the stable phase (0: isotropic)"}),
-            "bifurcation_density": (
-                "order",
-                np.asarray(parsons_lee_density(unstable.values, particle_area), dtype=float),
-                {**DENSITY, "long_name": "rho*_k"},
-            ),
+            "bifurcation_density": ("order", bifurcation, {**DENSITY, "long_name": "rho*_k"}),
             "coexistence_low": ("order", low, {**DENSITY, "long_name": "isotropic coexisting density"}),
             "coexistence_high": ("order", high, {**DENSITY, "long_name": "ordered coexisting density"}),
-            "continuous": (
-                "order",
-                continuous,
-                {"units": "1", "long_name": "1 continuous, 0 first order, -1 not reached"},
-            ),
+            "continuous": ("order", continuous.astype(int),
+                           {"units": "1", "long_name": "1 continuous, 0 first order, -1 not reached"}),
         },
-        coords=coords,
-    )
+        coords={"density": ("density", densities, dict(DENSITY)), "order": ks},
+    )  # fmt: skip
 
 
-def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 0.0) -> dict:
-    """The first ordering transition as the density rises (see :func:`phase_behaviour`): ``order`` (k, 0 if
-    none), ``density`` (b⁻²: the bifurcation ρ*_k of a continuous transition, the isotropic coexisting
-    density of a first-order one), ``ordered_density`` (the ordered coexisting density; equal to
-    ``density`` when continuous) and ``continuous`` (bool; False also for a branch that reaches below ρ*_k by
-    less than the density step, whose coexistence gap is then not resolved: both densities are ρ*_k).
-    ``particle_area`` > 0: in Parsons–Lee theory (see :func:`phase_behaviour`)."""
+def _branch(values, k: int, onsager, densities, particle_area: float):
+    """(order parameter, free energy, branch) of the k-fold branch at each density: solved at the second-virial
+    densities ``onsager`` from the highest down, each from the one above; the order parameter 0 where the
+    solution is isotropic; ``branch``: [(density, state), ...] of the ordered solutions."""
+    dphi = 2 * np.pi / len(values)
+    phi = np.arange(len(values)) * dphi
+    order_parameter, free_energy = np.zeros(len(densities)), np.zeros(len(densities))
+    psi = np.exp(5.0 * np.cos(k * phi))
+    branch = []
+    for i in range(len(densities) - 1, -1, -1):  # down in density, each from the one above
+        psi = _solved(values, onsager[i], psi + 1e-3 * (1 + np.cos(k * phi)) / (2 * np.pi), dphi, fold=k)
+        state = _state(psi, values, densities[i], dphi, particle_area)
+        order_parameter[i] = state["order"][k - 1] if abs(state["order"][k - 1]) > ORDERED else 0.0
+        free_energy[i] = state["free_energy"]
+        if order_parameter[i]:
+            branch.append((densities[i], state))
+    return order_parameter, free_energy, branch
+
+
+def _kind(order_parameter, branch, onsager, bifurcation: float, values, particle_area: float) -> tuple:
+    """(low, high, continuous) of a branch: the coexisting densities of a first-order transition (NaN
+    otherwise) and 1 continuous, 0 first order (the branch reaches below its bifurcation by more than the
+    density step), −1 the bifurcation outside the densities solved."""
+    points = len(onsager)
+    below = [i for i in range(points) if order_parameter[i] and onsager[i] < bifurcation * (1 - 2 / points)]
+    if not onsager[0] < bifurcation < onsager[-1]:
+        return math.nan, math.nan, -1  # not reached in this span
+    if not below:
+        return math.nan, math.nan, 1
+    pair = _coexistence(float(values.mean()), sorted(branch, key=lambda item: item[0]), particle_area)
+    return (*pair, 0) if pair is not None else (math.nan, math.nan, 0)
+
+
+def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 0.0) -> xr.Dataset:
+    """The first ordering transition as the density rises (see :func:`phase_behaviour`).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``transition_order`` (k, 0 if none); ``transition_density`` (b⁻²: the bifurcation ρ*_k of a
+        continuous transition, the isotropic coexisting density of a first-order one) and
+        ``transition_density_error`` (b⁻², that of ρ*_k from :func:`instabilities` for a continuous
+        transition; NaN for a first-order one, whose gap is not given a bar); ``ordered_density`` (the ordered
+        coexisting density; equal to ``transition_density`` when continuous) and ``continuous`` (1, or 0 also
+        for a branch that reaches below ρ*_k by less than the density step, whose coexistence gap is then not
+        resolved: both densities are ρ*_k). ``particle_area`` > 0: in Parsons–Lee theory."""
     try:
         found = phase_behaviour(excluded_area, orders, particle_area=particle_area)
     except ValueError:  # never unstable: no transition
-        return {"order": 0, "density": math.nan, "ordered_density": math.nan, "continuous": False}
+        return _transition_dataset(0, math.nan, math.nan, math.nan, False)
     ordered = found.stable_order.where(found.stable_order > 0, drop=True)
     k = int(ordered[0]) if ordered.size else int(found.order[found.bifurcation_density.argmin()])
     row = found.sel(order=k)
     if int(row.continuous) == 0 and np.isfinite(float(row.coexistence_low)):
-        low, high, continuous = float(row.coexistence_low), float(row.coexistence_high), False
-    else:
-        low = high = float(row.bifurcation_density)
-        continuous = int(row.continuous) == 1
-    return {"order": k, "density": low, "ordered_density": high, "continuous": continuous}
+        return _transition_dataset(k, float(row.coexistence_low), math.nan, float(row.coexistence_high), False)
+    density = float(row.bifurcation_density)
+    bar = math.nan
+    if int(row.continuous) == 1:  # ρ*_k's own bar, mapped as ρ*_k is (d ρ_PL / d ρ*_k ≤ 1: a bound)
+        bar = float(instabilities(excluded_area, [k]).density_error.sel(order=k))
+    return _transition_dataset(k, density, bar, density, int(row.continuous) == 1)
+
+
+def _transition_dataset(order: int, density: float, error: float, ordered: float, continuous: bool) -> xr.Dataset:
+    said = "isotropic density at the first transition"
+    return xr.Dataset(
+        {
+            "transition_order": ((), order, {"units": "1", "long_name": "k of the first order (0: none)"}),
+            "transition_density": ((), density, {**DENSITY, "long_name": said}),
+            "transition_density_error": ((), error, {**DENSITY, "long_name": f"error bar of the {said} (NaN: none)"}),
+            "ordered_density": ((), ordered, {**DENSITY, "long_name": "ordered density at the first transition"}),
+            "continuous": ((), int(continuous), {"units": "1", "long_name": "1: continuous"}),
+        }
+    )  # fmt: skip
 
 
 # --- beyond the second virial: the Parsons–Lee rescaling ------------------------------------------------------

@@ -27,8 +27,7 @@ __all__ = [
     "allowed_map",
     "excluded_area_curve",
     "excluded_area_panels",
-    "topology_plot",
-    "transitions_plot",
+    "count_plot",
     "certified_map",
     "map_grid",
     "render_figures",
@@ -403,51 +402,6 @@ def excluded_area_panels(ds: xr.Dataset, *, phis=(0, 45, 90, 135, 180), ns=(2, 4
     return fig
 
 
-def topology_plot(ds: xr.Dataset, *, fig=None):
-    """Certified excluded components and their areas against Ψ, from a collected sweep that kept "topology".
-
-    Top: the count (:func:`sesp.certified_components` at the sweep's
-    resolution); where it is undecided the bracket's upper end is drawn
-    dashed. Bottom: the certified area (b², a lower bound) of the two largest
-    components. For n = 2 the exact lens area (π − Ψ) − sin Ψ is drawn for
-    comparison.
-    """
-    import matplotlib.pyplot as plt
-    from matplotlib.ticker import MaxNLocator
-
-    fig = fig or plt.figure(figsize=(8, 6), layout="constrained")
-    top, bottom = fig.subplots(2, 1, sharex=True)
-    deg = _opening_degrees(ds)
-    if "n" in ds.excluded_components.dims:
-        series = [(float(n), ds.sel(n=n)) for n in ds.n.values]
-    else:
-        series = [(float(ds.n) if "n" in ds.coords else None, ds)]
-    for i, (n, sub) in enumerate(series):
-        label = "" if n is None else f"$n = {n:g}$"
-        low, high = sub.excluded_components.values, sub.excluded_components_high.values
-        top.step(deg, low, where="mid", color=f"C{i}", label=label)
-        if np.any(high != low):
-            top.step(deg, high, where="mid", color=f"C{i}", ls="--", lw=0.8, label=f"{label} undecided: upper end")
-        areas = sub.component_area.values
-        bottom.plot(deg, areas[:, 0], "o-", ms=3, color=f"C{i}", label=f"largest {label}")
-        bottom.plot(deg, areas[:, 1], "s--", ms=3, color=f"C{i}", label=f"second {label}")
-    if any(n == 2 for n, _ in series):
-        psi = np.radians(np.linspace(0, 180, 200))
-        bottom.plot(np.degrees(psi), (np.pi - psi) - np.sin(psi), "k:", lw=1,
-                    label=r"exact ASP lens $(\pi - \Psi) - \sin \Psi$")  # fmt: skip
-    resolution = ds.excluded_components.attrs.get("resolution")
-    top.set(ylabel="excluded components")
-    if resolution is not None:
-        top.set_title(f"certified at resolution {resolution:g} b", fontsize=9)
-    top.yaxis.set_major_locator(MaxNLocator(integer=True))
-    top.legend(frameon=False, fontsize=8)
-    bottom.set(xlabel=PSI_LABEL, ylabel=r"certified component area ($b^2$)")
-    bottom.set_yscale("symlog", linthresh=1e-2)
-    bottom.legend(frameon=False, fontsize=7)
-    bottom.set_xticks(np.arange(0, 361, 45))
-    return fig
-
-
 def thickness_curves(ds: xr.Dataset, *, fig=None):
     """Normalised orientation-averaged A_ex against Ψ, one line per thickness D, one panel per n.
 
@@ -621,69 +575,111 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     return fig
 
 
-def transitions_plot(found, *, family=None, zoom=(165.0, 181.0), fig=None):
-    """The certified count over the opening (:func:`sesp.topology.transitions`), with each change's bracket.
+def _count_series(source) -> list:
+    """Per line to draw: (label, openings in degrees, low, high, depths (opening × component, b; NaN where
+    none), bar (b, per opening: resolution + rim), change brackets in degrees), from a :class:`Transitions` or
+    a collected sweep that kept "topology" (one line per n)."""
+    if isinstance(source, xr.Dataset):
+        deg = _opening_degrees(source)
+        bar = (source.excluded_components.attrs.get("resolution", 0.0) + source.component_rim).values
+        if "n" in source.excluded_components.dims:
+            subsets = [(f"$n = {float(n):g}$", source.sel(n=n), bar[k]) for k, n in enumerate(source.n.values)]
+        else:
+            subsets = [("", source, bar)]
+        return [(label, deg, sub.excluded_components.values, sub.excluded_components_high.values,
+                 sub.component_depth.transpose("opening", ...).values.reshape(len(deg), -1),
+                 np.broadcast_to(b, deg.shape), []) for label, sub, b in subsets]  # fmt: skip
+    counts = [source.counts[o] for o in source.openings]
+    depths = np.full((len(counts), max([len(c.components) for c in counts], default=0) or 1), np.nan)
+    for k, c in enumerate(counts):
+        depths[k, : len(c.components)] = [comp.depth for comp in c.components]
+    brackets = [(math.degrees(t.low), math.degrees(t.high)) for t in source.changes]
+    return [("", np.degrees(source.openings), np.array([c.low for c in counts]), np.array([c.high for c in counts]),
+             depths, np.array([c.resolution + c.rim for c in counts]), brackets)]  # fmt: skip
 
-    Top: the count at every opening counted (a bar from the bracket's low to
-    its high end where it is undecided, cut and marked ▲ above three more than
-    the largest low end), each change's bracket shaded. Bottom:
-    every component's certified depth (b, log scale): how thin a component is
-    when it appears or vanishes. The right-hand column repeats both over
-    ``zoom`` (degrees; None, or a range searched less than three times as
-    wide: no zoom), where the changes near Ψ = π crowd together. ``family``
-    names the particle in the title.
+
+def count_plot(source, *, family=None, zoom="auto", fig=None):
+    """The certified count of excluded components over the opening Ψ, and each component's certified depth.
+
+    ``source``: :func:`sesp.transitions`' result (each change's bracket shaded) or a collected sweep that kept
+    "topology" (one colour per n). Top: the count; where it is undecided, a bar from the bracket's low to its
+    high end, cut and marked ▲ one above the largest low end. Bottom: each component's certified depth (b, log
+    scale) and, dashed, resolution + rim: the depth from which a component is counted, so the count at any
+    depth can be read off; for the ASP the exact lens depth 1 − sin(Ψ/2). The right-hand column repeats both
+    over ``zoom`` (degrees; "auto": 165°–181°, where the changes near Ψ = π crowd together, for a
+    :class:`Transitions`, none for a sweep; None, or a range searched less than three times as wide: no zoom).
+    ``family`` names the particle in the title.
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
-    deg = np.degrees(found.openings)
-    start, end = float(deg[0]), float(deg[-1])
+    series = _count_series(source)
+    if isinstance(zoom, str):
+        zoom = None if isinstance(source, xr.Dataset) else (165.0, 181.0)
+    start = min(float(s[1].min()) for s in series)
+    end = max(float(s[1].max()) for s in series)
     if zoom is not None and end - start < 3 * (zoom[1] - zoom[0]):
         zoom = None
     columns = 1 if zoom is None else 2
     fig = fig or plt.figure(figsize=(5.0 * columns + 1.0, 6.0), layout="constrained")
     axes = np.asarray(fig.subplots(2, columns, sharex="col", squeeze=False))
-    counts = [found.counts[o] for o in found.openings]
-    low = np.array([c.low for c in counts])
-    high = np.array([c.high for c in counts])
-    # the axis ends a little above the largest low end: an undecided high end of hundreds (floor specks) would
-    # squeeze the counts themselves into the bottom rows; such bars are cut there and marked ▲
-    ceiling = int(low.max(initial=0)) + 3
-    undecided, above = high > low, high > ceiling
+    ceiling = max(int(np.max(s[2], initial=0)) for s in series) + 1
     for top, bottom in axes.T:
-        top.step(deg, low, where="post", color="C0", lw=1.2)
-        top.vlines(deg[undecided], low[undecided], np.minimum(high, ceiling)[undecided], color="C3", lw=2)
-        top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5)
-        top.set_ylim(-0.3, ceiling + 0.3)
-        for t in found.changes:
-            top.axvspan(math.degrees(t.low), math.degrees(t.high), color="C1", alpha=0.3, lw=0)
-        for o, c in zip(deg, counts):
-            depths = [comp.depth for comp in c.components]
-            bottom.plot([o] * len(depths), depths, "o", ms=3, color="C0", mfc="C0")
+        for i, series_i in enumerate(series):
+            _draw_count(top, bottom, series_i, f"C{i}", ceiling)
         top.yaxis.set_major_locator(MaxNLocator(integer=True))
+        top.set_ylim(-0.3, ceiling + 0.3)
         bottom.set_yscale("log")
         bottom.set_xlabel(PSI_LABEL)
+        if family is not None and isinstance(family, SeSP) and family.n == 2 and family.m == 2 and family.aspect == 1:
+            psi = np.linspace(start, min(end, 179.9), 400)
+            bottom.plot(psi, 1 - np.sin(np.radians(psi) / 2), "k:", lw=1, label=r"exact lens $1 - \sin(\Psi/2)$")
     axes[0, 0].set_ylabel("excluded components")
     axes[1, 0].set_ylabel("certified depth of each component (b)")
     axes[0, 0].set_xlim(start, end)
     if zoom is not None:
         axes[0, 1].set_xlim(*zoom)
         axes[0, 1].set_title(f"{zoom[0]:g}°–{zoom[1]:g}°", fontsize=9)
-    handles = [
-        Line2D([], [], color="C0", lw=1.2, label="count"),
-        Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"),
-        *([Line2D([], [], color="C3", lw=2, label="undecided: the bracket")] if undecided.any() else []),
-        *(
-            [Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}")]
-            if above.any()
-            else []
-        ),
-    ]
-    axes[0, 0].legend(handles=handles, frameon=False, fontsize=7)
+    axes[0, 0].legend(handles=_count_handles(series, ceiling), frameon=False, fontsize=7)
+    axes[1, 0].legend(frameon=False, fontsize=7)
     named = f"{shape_label(family, opening=False)}: " if family is not None else ""
-    fig.suptitle(f"{named}excluded components at resolution {found.resolution:g} b", fontsize=10)
+    resolution = _count_resolution(source)
+    fig.suptitle(f"{named}excluded components at resolution {resolution:g} b", fontsize=10)
     return fig
+
+
+def _count_resolution(source) -> float:
+    if isinstance(source, xr.Dataset):
+        return float(source.excluded_components.attrs.get("resolution", math.nan))
+    return float(source.resolution)
+
+
+def _draw_count(top, bottom, series, color, ceiling):
+    """One series of :func:`count_plot`: its count, undecided bars, change brackets, depths and bar."""
+    label, deg, low, high, depths, bar, brackets = series
+    top.step(deg, low, where="post" if brackets else "mid", color=color, lw=1.2, label=label or "count")
+    undecided, above = high > low, high > ceiling
+    top.vlines(deg[undecided], low[undecided], np.minimum(high, ceiling)[undecided], color="C3", lw=2)
+    top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5)
+    for lo, hi in brackets:
+        top.axvspan(lo, hi, color="C1", alpha=0.3, lw=0)
+    for k in range(depths.shape[1]):
+        bottom.plot(deg, depths[:, k], "o", ms=3, color=color, label=f"depths {label}".strip() if k == 0 else None)
+    bottom.plot(deg, bar, "--", color=color, lw=0.8, label=f"resolution + rim {label}".strip())
+
+
+def _count_handles(series, ceiling) -> list:
+    """Legend entries of :func:`count_plot`'s top panel: every mark drawn, once."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=f"C{i}", lw=1.2, label=s[0] or "count") for i, s in enumerate(series)]
+    if any(s[6] for s in series):
+        handles.append(Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"))
+    if any((s[3] > s[2]).any() for s in series):
+        handles.append(Line2D([], [], color="C3", lw=2, label="undecided: the bracket"))
+    if any((s[3] > ceiling).any() for s in series):
+        handles.append(Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}"))
+    return handles
 
 
 FIGURES = {
@@ -789,7 +785,7 @@ def figure(kind: str, ds: xr.Dataset | None = None):
     if kind == "panels":
         return excluded_area_panels(ds)
     if kind == "topology":
-        return topology_plot(ds)
+        return count_plot(ds)
     if kind == "onsager":
         return onsager_plot(ds)
     if kind == "thickness":

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-__all__ = ["progress_bar", "progress_iter"]
+__all__ = ["progress_bar", "progress_iter", "NoProgress"]
 
 
-class _NoProgress:
+class NoProgress:
+    """A stand-in for a tqdm bar that shows nothing: the same interface."""
+
     total = 0
 
     def __enter__(self):
@@ -20,11 +22,15 @@ class _NoProgress:
     def refresh(self):
         pass
 
+    def set_postfix_str(self, text=""):
+        pass
 
-def progress_bar(total: int, enabled: bool, desc: str, unit: str = "it", initial: int = 0, leave: bool = False):
-    """A tqdm bar when ``enabled``, else a silent stand-in with the same interface."""
+
+def progress_bar(total, enabled: bool, desc: str, unit: str = "it", initial: int = 0, leave: bool = False):
+    """A tqdm bar when ``enabled``, else a silent stand-in with the same interface (``total`` None: steps not
+    known ahead; ``set_postfix_str`` shows where a step got)."""
     if not enabled:
-        return _NoProgress()
+        return NoProgress()
     from tqdm.auto import tqdm
 
     return tqdm(total=total, unit=unit, desc=desc, leave=leave, initial=initial)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .dataset import format_of, grid_of, pair_of
-from .measures import RTOL, closed_shape_excluded_area, excluded_area, lattice_excluded_area
+from .measures import RTOL, closed_excluded_area, excluded_area, lattice_excluded_area
 
 __all__ = ["describe"]
 
@@ -49,7 +49,7 @@ def _area_line(ds, rtol: float) -> str:
     if "allowed" in ds:
         text += f"\n           the field's lattice count {lattice_excluded_area(ds):.8g} b^2 (its own measure)"
     stored = "closed_excluded_area" in ds
-    closed = float(ds.closed_excluded_area) if stored else closed_shape_excluded_area(pair, rtol)
+    closed = float(ds.closed_excluded_area) if stored else closed_excluded_area(pair, rtol=rtol)
     if math.isnan(closed):  # a Polyline has no closed shape
         return text
     return f"{text}\n           A_ex / A_ex(closed) = {mean / closed:.6g}; closed {closed:.6g} b^2"
@@ -108,7 +108,7 @@ def describe(ds, *, rtol: float = RTOL) -> str:
         lines += [_particle_line(attrs, p) for p in ("particle", "other")]
     if kind == "sesp.sweep":
         lines += _sweep_lines(ds)
-    elif kind == "sesp.monte_carlo":
+    elif kind == "sesp.measures.monte_carlo":
         lines.append(f"samples  : {attrs['samples']}")
         lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")
     else:

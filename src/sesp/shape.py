@@ -319,7 +319,7 @@ class SeSP:
         v = self.polyline(segments).vertices
         pts = self.point(theta)
         n_seg = len(v) - 1
-        starts = self._vertex_arcs(n_seg)
+        starts = self.vertex_arcs(n_seg)
         k = np.clip(np.searchsorted(starts, arc, side="right") - 1, 0, n_seg - 1)
         best = np.full(len(pts), np.inf)
         for shift in (-1, 0, 1):
@@ -330,7 +330,7 @@ class SeSP:
             best = np.minimum(best, np.hypot(*(w - lam[:, None] * d).T))
         return float(best.max())
 
-    def _flank_and_back(self, n_seg: int):
+    def flank_and_back(self, n_seg: int):
         """Segment counts (i, j) of one flank and of the back when the polyline can be its own mirror image
         in x, else None.
 
@@ -363,11 +363,11 @@ class SeSP:
         k = int(np.searchsorted(theta, math.pi / 2, side="right")) - 1
         return 2.0 * float(arc[k] + np.hypot(*(self.point(math.pi / 2) - self.point(theta[k]))))
 
-    def _vertex_arcs(self, n_seg: int) -> np.ndarray:
+    def vertex_arcs(self, n_seg: int) -> np.ndarray:
         """Arc lengths (b, from θ = Ψ/2) of the polyline's vertices on the upper half, 1 + N//2 of them."""
         theta, arc = self._upper_arc_table()
         half = arc[-1]
-        counts = self._flank_and_back(n_seg)
+        counts = self.flank_and_back(n_seg)
         if counts is None:
             return np.arange(n_seg // 2 + 1) * (2.0 * half / n_seg)
         i, j = counts
@@ -383,7 +383,7 @@ class SeSP:
         The curve's upper half mirrored in y is its lower half, and for 0 < Ψ < π its upper flank (θ in
         [Ψ/2, π − Ψ/2]) mirrored in x is itself, as is the lower. N = 2i + j segments,
         i of equal arc on each flank and j on the back, keep both symmetries; the split makes the longest
-        segment as short as it can (see :meth:`_flank_and_back`): for the ASP at N = 256 its arc is at
+        segment as short as it can (see :meth:`flank_and_back`): for the ASP at N = 256 its arc is at
         most 3% longer than (2π − Ψ)/N; and a corner at θ = π/2 (n = 1) becomes a vertex, so the diamond's
         polygon is the diamond where the split is made (tests/test_shape.py). The symmetry
         in x matters for the excluded set: the pinch between two lobes lies on x = 0, where the mirrored
@@ -408,9 +408,9 @@ class SeSP:
         """
         n_seg = check_segments(segments)
         theta, arc = self._upper_arc_table()
-        upper = self._points_at(self._vertex_arcs(n_seg), theta, arc)
+        upper = self._points_at(self.vertex_arcs(n_seg), theta, arc)
         upper[0] = self.point(theta[0])
-        counts = self._flank_and_back(n_seg)
+        counts = self.flank_and_back(n_seg)
         if counts is not None:
             i = counts[0]
             if i % 2 == 0:

@@ -83,7 +83,7 @@ def _apart(a: Certified, b: Certified) -> bool:
     return a.high < b.low or b.high < a.low
 
 
-def _changed(a: Certified, b: Certified) -> bool:
+def changed(a: Certified, b: Certified) -> bool:
     """Whether what is known of the count differs between two openings: a decided count changed, became
     undecided or was decided; two undecided brackets differ only where they do not overlap (where they do,
     where between them the count changes, if it does, is not known at this resolution)."""
@@ -326,7 +326,7 @@ def _search(counter, grid, width, progress, on_change):
         while (got := counter.next()) is not None:
             cache[got[0]] = got[1]
             bar.update(1)
-    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if _changed(cache[a], cache[b])]
+    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if changed(cache[a], cache[b])]
     done = width + 1e-12  # rad: a bracket this narrow is done (the halved openings' rounding is far below this)
 
     def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
@@ -357,7 +357,7 @@ def _search(counter, grid, width, progress, on_change):
             cache[mid] = found
             bar.update(1)
             a, b = brackets.pop(mid)
-            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if _changed(cache[lo], cache[hi])]
+            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if changed(cache[lo], cache[hi])]
             if len(halves) != 1:  # a second branch to bisect, or none left (the change undid itself)
                 bar.total += (len(halves) - 1) * halvings(a, mid)
                 bar.refresh()

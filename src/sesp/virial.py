@@ -35,13 +35,14 @@ import xarray as xr
 from .checks import check_choice, check_count
 from .grid import available_memory
 from .kernels.overlap import crossing_field, state_crossings
-from .measures import excluded_area, lattice_shifts
+from .measures import RTOL, excluded_area, lattice_shifts
+from .onsager import mixture_second_virial
 from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
 from .units import AREA
 
-__all__ = ["third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
+__all__ = ["second_virial", "third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
 
 ORIENTATIONS = ("free", "fixed")
 B4 = {"units": "1", "in_units_of": "b^4"}  # B₃ is a length to the fourth (see sesp.units)
@@ -85,6 +86,36 @@ class _Correlator:
         shifts = np.r_[np.arange(self.shape[0] - k, self.shape[0]), np.arange(0, k + 1)]  # m = −k .. k
         inner = np.rint(g[np.ix_(shifts, shifts)])
         return int(np.rint((e12 * inner).sum()))
+
+
+def second_virial(particles, fractions=None, *, rtol: float = RTOL) -> xr.Dataset:
+    """B₂ of one species, or of a mixture, with its error bar (b²): ⟨A_ex⟩/2 of each pair of species from
+    :func:`sesp.excluded_area` refined to ``rtol``, weighted by the mole fractions.
+
+    ``particles``: a particle (SeSP or Polyline), or a list of them, one per species; ``fractions``: their mole
+    fractions (summing to 1; default equal). One A_ex is measured per pair of species (i ≤ j).
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`sesp.onsager.mixture_second_virial`: ``second_virial_coefficient`` ± ``_error`` (b²) and,
+        per pair of species, ``second_virial_matrix`` ± ``_error``.
+
+    Examples
+    --------
+    >>> from sesp import Polyline, SeSP
+    >>> needle, ring = Polyline([[-1, 0], [1, 0]]), SeSP(n=2, opening=0.0)
+    >>> found = second_virial([needle, ring], [0.5, 0.5], rtol=1e-3)
+    >>> round(float(found.second_virial_matrix.sel(species_i=0, species_j=0)), 3)  # needles: L²·(2/π)/2 = 4/π
+    1.273
+    """
+    species = list(particles) if isinstance(particles, list | tuple) else [particles]
+    fractions = np.full(len(species), 1.0 / len(species)) if fractions is None else fractions
+    areas = {}
+    for i, a in enumerate(species):
+        for j in range(i, len(species)):
+            areas[i, j] = areas[j, i] = excluded_area(a, None if i == j else species[j], rtol=rtol)
+    return mixture_second_virial([[areas[i, j] for j in range(len(species))] for i in range(len(species))], fractions)
 
 
 def third_virial(
@@ -145,52 +176,20 @@ def third_virial(
     >>> round(float(b.reduced_third_virial), 3)  # parallel hard squares: 3/4
     0.75
     """
-    check_choice("orientations", orientations, ORIENTATIONS)
-    nodes = check_count("nodes", nodes, 9, 4097)
-    if nodes % 2 == 0:
-        raise ValueError(f"nodes must be odd (a node at the origin), got {nodes}")
+    nodes, nphi, shifts = _checked(nodes, nphi, shifts, orientations, memory_limit)
     fixed = orientations == "fixed"
-    shifts = check_count("shifts", (1 if fixed else 4) if shifts is None else shifts, 1, 64)
-    nphi = 1 if fixed else check_count("nphi", nphi, 2, 1024)
-    if not fixed and nphi % 2:
-        raise ValueError(f"nphi must be even (every other orientation is the coarser rule), got {nphi}")
-    check_held_bytes(nodes, nphi, shifts, memory_limit)
-    p12, p13, p23 = _three_pairs(particle, second, third, segments)
-    xs = _lattice(max(p.reach for p in (p12, p13, p23)), nodes)
-    h = float(xs[1] - xs[0])
-    phi = 2 * np.pi * np.arange(nphi) / nphi
-    moves = lattice_shifts(2 * shifts)[:shifts] * h  # particles 2 and 3 on moved lattices; their difference is not
+    pairs = _three_pairs(particle, second, third, segments)
+    xs = _lattice(max(p.reach for p in pairs), nodes)
     t0 = time.perf_counter()
-    fine, coarse = _Correlator(len(xs)), _Correlator(len(xs[::2]))
-    e12 = [[_overlaps(p12.vertices1, p12.vertices2, 0.0, a, xs, p12, move) for a in phi] for move in moves]
-    spectra = []
-    for move in moves:
-        e13 = [_overlaps(p13.vertices1, p13.vertices2, 0.0, a, xs, p13, move) for a in phi]
-        spectra.append([(fine.spectrum(e), coarse.spectrum(e[::2, ::2])) for e in e13])
-    symmetric = p23.identical
-    counts = np.zeros((shifts, nphi, nphi, 2))
-    pairs = [(j, k) for j in range(nphi) for k in range(nphi) if not (symmetric and k < j)]
-    with progress_bar(len(pairs), progress, "B3 orientation pairs", unit="pair") as bar:
-        for j, k in pairs:
-            e23 = _overlaps(p23.vertices1, p23.vertices2, phi[j], phi[k], xs, p23)
-            f23 = (fine.spectrum(e23), coarse.spectrum(e23[::2, ::2]))
-            for m in range(shifts):
-                counts[m, j, k, 0] = fine.triple(e12[m][j], spectra[m][k][0], f23[0])
-                counts[m, j, k, 1] = coarse.triple(e12[m][j][::2, ::2], spectra[m][k][1], f23[1])
-            if symmetric:
-                counts[:, k, j] = counts[:, j, k]
-            bar.update(1)
-    per_shift = counts[..., 0].mean(axis=(1, 2)) * h**4 / 3
-    b3 = float(per_shift.mean())
-    coarse_b3 = float(counts[..., 1].mean()) * (2 * h) ** 4 / 3
-    spread = float(per_shift.std(ddof=1)) / math.sqrt(shifts) if shifts > 1 else 0.0
-    lattice_error = max(2 * spread, abs(b3 - coarse_b3))  # first order: flat sides along the lattice
-    phi_error = abs(b3 - counts[:, ::2, ::2, 0].mean() * h**4 / 3) if not fixed else 0.0
-    if fixed:
-        b2, b2_error = 0.5 * float(np.mean([e[0].sum() for e in e12])) * h * h, 0.0
+    counts = _triple_counts(pairs, xs, nphi, shifts, progress)
+    b3, lattice_error, phi_error = _b3_and_errors(counts, float(xs[1] - xs[0]), fixed)
+    if fixed:  # B₂ from the same lattice: the φ = 0 slice's own count
+        h = float(xs[1] - xs[0])
+        e12 = [_overlaps(pairs[0].vertices1, pairs[0].vertices2, 0.0, 0.0, xs, pairs[0], move)
+               for move in _moves(shifts, h)]  # fmt: skip
+        b2, b2_error = 0.5 * float(np.mean([e.sum() for e in e12])) * h * h, 0.0
     else:
         area = excluded_area(particle, second)  # the smooth curves' for SeSPs: within 1e-5 of the polygons'
-
         b2, b2_error = float(area.mean_excluded_area) / 2, float(area.mean_excluded_area_error) / 2
     error = lattice_error + phi_error
     ratio = b3 / b2**2
@@ -203,9 +202,74 @@ def third_virial(
             "reduced_third_virial": ((), ratio, {"units": "1", "long_name": "B3 / B2^2"}),
             "reduced_third_virial_error": ((), ratio_error, {"units": "1", "long_name": "error bar of B3 / B2^2"}),
         },
-        attrs={"nodes": len(xs), "spacing": h, "nphi": nphi, "orientations": orientations,
+        attrs={"nodes": len(xs), "spacing": float(xs[1] - xs[0]), "nphi": nphi, "orientations": orientations,
                "lattice_error": lattice_error, "phi_error": phi_error, "seconds": time.perf_counter() - t0},
     )  # fmt: skip
+
+
+def _checked(nodes, nphi, shifts, orientations, memory_limit) -> tuple:
+    """(nodes, nphi, shifts) checked, with the defaults of the orientations (``shifts`` None: 4 for free
+    orientations, 1 for fixed ones, where nphi is 1); ``MemoryError`` if they would not fit in
+    ``memory_limit``."""
+    check_choice("orientations", orientations, ORIENTATIONS)
+    nodes = check_count("nodes", nodes, 9, 4097)
+    if nodes % 2 == 0:
+        raise ValueError(f"nodes must be odd (a node at the origin), got {nodes}")
+    fixed = orientations == "fixed"
+    shifts = check_count("shifts", (1 if fixed else 4) if shifts is None else shifts, 1, 64)
+    nphi = 1 if fixed else check_count("nphi", nphi, 2, 1024)
+    if not fixed and nphi % 2:
+        raise ValueError(f"nphi must be even (every other orientation is the coarser rule), got {nphi}")
+    check_held_bytes(nodes, nphi, shifts, memory_limit)
+    return nodes, nphi, shifts
+
+
+def _moves(shifts: int, h: float) -> np.ndarray:
+    """(shifts, 2): the low-discrepancy moves (b) of the lattices of particles 2 and 3 (their difference's
+    lattice is unmoved)."""
+    return lattice_shifts(2 * shifts)[:shifts] * h
+
+
+def _triple_counts(pairs, xs, nphi: int, shifts: int, progress: bool) -> np.ndarray:
+    """(shifts, nphi, nphi, 2): Σ_{r₂} E₁₂ Σ_{r₃} E₁₃ E₂₃ in node counts per shift and orientations (φ₂, φ₃),
+    on the lattice ``xs`` and on its sublattice of every other node."""
+    p12, p13, p23 = pairs
+    phi = 2 * np.pi * np.arange(nphi) / nphi
+    moves = _moves(shifts, float(xs[1] - xs[0]))
+    fine, coarse = _Correlator(len(xs)), _Correlator(len(xs[::2]))
+    e12 = [[_overlaps(p12.vertices1, p12.vertices2, 0.0, a, xs, p12, move) for a in phi] for move in moves]
+    spectra = []
+    for move in moves:
+        e13 = [_overlaps(p13.vertices1, p13.vertices2, 0.0, a, xs, p13, move) for a in phi]
+        spectra.append([(fine.spectrum(e), coarse.spectrum(e[::2, ::2])) for e in e13])
+    symmetric = p23.identical
+    counts = np.zeros((shifts, nphi, nphi, 2))
+    todo = [(j, k) for j in range(nphi) for k in range(nphi) if not (symmetric and k < j)]
+    with progress_bar(len(todo), progress, "B3 orientation pairs", unit="pair") as bar:
+        for j, k in todo:
+            e23 = _overlaps(p23.vertices1, p23.vertices2, phi[j], phi[k], xs, p23)
+            f23 = (fine.spectrum(e23), coarse.spectrum(e23[::2, ::2]))
+            for m in range(shifts):
+                counts[m, j, k, 0] = fine.triple(e12[m][j], spectra[m][k][0], f23[0])
+                counts[m, j, k, 1] = coarse.triple(e12[m][j][::2, ::2], spectra[m][k][1], f23[1])
+            if symmetric:
+                counts[:, k, j] = counts[:, j, k]
+            bar.update(1)
+    return counts
+
+
+def _b3_and_errors(counts, h: float, fixed: bool) -> tuple:
+    """(B₃, lattice error, φ error), b⁴, from the triple counts on lattices of spacing ``h`` (b): the mean over
+    the shifts; the lattice part the larger of twice the standard error over the shifts and the change from
+    the sublattice; the orientation part the change from every other orientation."""
+    shifts = counts.shape[0]
+    per_shift = counts[..., 0].mean(axis=(1, 2)) * h**4 / 3
+    b3 = float(per_shift.mean())
+    coarse_b3 = float(counts[..., 1].mean()) * (2 * h) ** 4 / 3
+    spread = float(per_shift.std(ddof=1)) / math.sqrt(shifts) if shifts > 1 else 0.0
+    lattice_error = max(2 * spread, abs(b3 - coarse_b3))  # first order: flat sides along the lattice
+    phi_error = abs(b3 - counts[:, ::2, ::2, 0].mean() * h**4 / 3) if not fixed else 0.0
+    return b3, lattice_error, phi_error
 
 
 def _three_pairs(particle, second, third, segments: int) -> tuple:
