@@ -51,7 +51,7 @@ KINDS = {
     "analysis": "sesp.summary",
     "mixture": "sesp.summary",
     "phases": "sesp.summary",
-    "monte_carlo": "sesp.measures.monte_carlo",
+    "monte_carlo": "sesp.monte_carlo",
     "point": "sesp.point",
     "sweep": "sesp.sweep",
 }

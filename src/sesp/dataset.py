@@ -14,7 +14,7 @@ Kinds of dataset (attribute ``sesp_format``):
 ``sesp.point``         one parameter point of a sweep (a summary or scan
                        plus the point's record)
 ``sesp.sweep``         collected sweep: swept parameters as dimensions
-``sesp.measures.monte_carlo``   random placements and their A_ex estimate
+``sesp.monte_carlo``   random placements and their A_ex estimate
 =====================  ======================================================
 
 Scans, summaries and points carry the attributes of the pair
@@ -70,7 +70,7 @@ PLANE_DIMS = ("y", "x")
 REQUIRED = {
     "sesp.scan": {"allowed": (FIELD_DIMS, "b")},
     "sesp.summary": {"excluded_area": (("phi",), "f")},
-    "sesp.measures.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
+    "sesp.monte_carlo": {"overlap": (("sample",), "b"), "excluded_area": ((), "f")},
     "sesp.point": {"excluded_area": (("phi",), "f")},
     "sesp.sweep": {},
 }
@@ -103,7 +103,7 @@ TITLES = {
     "sesp.summary": "excluded area and position classes of a particle pair (particles: see particle_kind, other_kind)",
     "sesp.point": "one parameter point of a sesp sweep",
     "sesp.sweep": "collected sesp sweep over particle parameters",
-    "sesp.measures.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
+    "sesp.monte_carlo": "Monte-Carlo estimate of the excluded area of a particle pair",
 }
 # Attributes that record when and how a file was made; they differ between otherwise identical results.
 PROVENANCE = ("history", "date_created")

@@ -323,7 +323,7 @@ def monte_carlo(
     overlap_ = overlap.state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance, contact=pair.contact)
     overlap_ = overlap_ > 0
     p = overlap_.mean()
-    attrs = {**base_attrs("sesp.measures.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
+    attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
     area = dict(AREA)
     return xr.Dataset(
         {

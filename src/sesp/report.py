@@ -108,7 +108,7 @@ def describe(ds, *, rtol: float = RTOL) -> str:
         lines += [_particle_line(attrs, p) for p in ("particle", "other")]
     if kind == "sesp.sweep":
         lines += _sweep_lines(ds)
-    elif kind == "sesp.measures.monte_carlo":
+    elif kind == "sesp.monte_carlo":
         lines.append(f"samples  : {attrs['samples']}")
         lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")
     else:
