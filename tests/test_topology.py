@@ -102,7 +102,10 @@ def test_the_asp_count_falls_from_two_to_none_before_pi_at_a_coarse_resolution(m
     last = found.changes[-1]
     assert math.degrees(last.high) <= 185.0 and (last.after.low, last.after.high) == (0, 0)
     assert all(t.high - t.low <= math.radians(4) + 1e-12 for t in found.changes)
-    assert "changes (brackets at most 4 deg wide)" in str(found)
+    assert "changes (brackets at most 4 deg wide; an event changes E_ε" in str(found)
+    # the lens does not vanish at 157°: its depth passes ε + rim there (a crossing), and it lives on to π
+    assert first.kind == "crossing" and "passes below ε + rim" in first.what()
+    assert "vanishing" not in str(found)
     rims = [f.rim for f in found.counts.values()]  # ε here: the polylines' departure is smaller
     assert f"rim {min(rims):.1e}..{max(rims):.1e} b" in str(found) and max(rims) == 1e-2
     record = found.to_dict()

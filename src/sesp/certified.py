@@ -73,7 +73,8 @@ class CertifiedComponent:
     largest depth (inscribed radius). ``area`` (b²): its in-cells, a lower bound on the area of E_ε there;
     ``area_bound``: all its cells, an upper bound. ``box``: (xmin, xmax, ymin, ymax), b. ``departure`` (b): the
     polylines' departure from the smooth curves; ``bar`` (b): the depth from which a component is counted
-    (resolution + rim)."""
+    (resolution + rim); ``point`` (x, y), b: where its depth is proved (where none is, its cell of largest upper
+    bound on the depth)."""
 
     parts: int
     depth: float
@@ -83,6 +84,7 @@ class CertifiedComponent:
     departure: float = 0.0
     top: float = math.inf
     bar: float = 0.0
+    point: tuple = (math.nan, math.nan)
 
     @property
     def counted(self) -> bool:
@@ -166,15 +168,29 @@ class Certified:
             "resolution": self.resolution, "rim": self.rim, "floor": self.floor,
             "units": {"lengths": "b", "areas": "b^2"}, "cells": self.evaluations, "seconds": self.seconds,
             "components": [
-                {"parts": c.parts, "depth": c.depth, "area": c.area, "area_bound": c.area_bound, "box": list(c.box),
-                 "status": c.why()}
+                {"parts": c.parts, "depth": c.depth, "top": c.top, "area": c.area, "area_bound": c.area_bound,
+                 "box": list(c.box), "point": list(c.point), "counted": c.counted, "departure": c.departure,
+                 "bar": c.bar, "status": c.why()}
                 for c in self.components
             ],
         }  # fmt: skip
 
+    @classmethod
+    def from_dict(cls, said: dict) -> Certified:
+        """The result :meth:`to_dict` wrote (without its cells)."""
+        components = [
+            CertifiedComponent(int(c["parts"]), float(c["depth"]), float(c["area"]), float(c["area_bound"]),
+                               tuple(map(float, c["box"])), float(c["departure"]), float(c["top"]), float(c["bar"]),
+                               tuple(map(float, c["point"])))
+            for c in said["components"]
+        ]  # fmt: skip
+        return cls(int(said["count_low"]), int(said["count_high"]), float(said["resolution"]), float(said["rim"]),
+                   float(said["floor"]), components, int(said["cells"]), float(said["seconds"]))  # fmt: skip
+
     def to_dataset(self, kept: int = COMPONENTS_KEPT) -> xr.Dataset:
         """The count's bracket, rim and the ``kept`` deepest components (NaN-padded) as labelled variables: the
-        form :func:`sesp.analyze` and sweeps store."""
+        form :func:`sesp.analyze` and sweeps store, from which :meth:`from_dataset` rebuilds the count (without
+        its cells)."""
         attrs = {"units": "1", "resolution": self.resolution, "resolution_units": "b"}
         said = "excluded components at the resolution, at least resolution + rim deep"
         ds = xr.Dataset()
@@ -185,18 +201,45 @@ class Certified:
         ds["component_rim"] = xr.DataArray(
             self.rim, attrs={**LENGTH, "long_name": "rim: a component is counted from resolution + rim deep"}
         )
+        ds["component_floor"] = xr.DataArray(self.floor, attrs={**LENGTH, "long_name": "smallest cell side"})
         listed = self.components[:kept]
         for name, unit, what, long_name in (
             ("component_depth", LENGTH, "depth", "certified depth (inscribed radius, lower bound) of each component"),
+            ("component_top", LENGTH, "top", "upper bound on the depth of each component"),
             ("component_area", AREA, "area", "certified area (lower bound) of each excluded component"),
             ("component_area_bound", AREA, "area_bound", "upper bound on the area of each excluded component"),
+            ("component_parts", {"units": "1"}, "parts", "certified parts that may each be a counted component"),
+            ("component_departure", LENGTH, "departure", "the polylines' departure from the smooth curves"),
         ):
             values = np.full(kept, np.nan)
             values[: len(listed)] = [getattr(c, what) for c in listed]
             ds[name] = xr.DataArray(
                 values, dims="component", attrs={**unit, "long_name": f"{long_name}, deepest first"}
             )
+        for name, dim, what, long_name in (
+            ("component_box", "edge", "box", "box of each component: xmin, xmax, ymin, ymax"),
+            ("component_point", "xy", "point", "where each component's depth is proved: x, y"),
+        ):
+            values = np.full((kept, 4 if dim == "edge" else 2), np.nan)
+            if listed:
+                values[: len(listed)] = [getattr(c, what) for c in listed]
+            ds[name] = xr.DataArray(values, dims=("component", dim), attrs={**LENGTH, "long_name": long_name})
         return ds
+
+    @classmethod
+    def from_dataset(cls, ds: xr.Dataset) -> Certified:
+        """The count :meth:`to_dataset` wrote (its listed components; no cells)."""
+        bar = float(ds.excluded_components.attrs["resolution"]) + float(ds.component_rim)
+        components = [
+            CertifiedComponent(int(ds.component_parts[k]), float(ds.component_depth[k]), float(ds.component_area[k]),
+                               float(ds.component_area_bound[k]), tuple(map(float, ds.component_box[k].values)),
+                               float(ds.component_departure[k]), float(ds.component_top[k]), bar,
+                               tuple(map(float, ds.component_point[k].values)))
+            for k in range(ds.sizes["component"]) if np.isfinite(float(ds.component_depth[k]))
+        ]  # fmt: skip
+        return cls(int(ds.excluded_components), int(ds.excluded_components_high),
+                   float(ds.excluded_components.attrs["resolution"]), float(ds.component_rim),
+                   float(ds.component_floor), components)  # fmt: skip
 
     @property
     def count(self):
@@ -267,11 +310,11 @@ def certified_components(
     got = count(pair, resolution, rim, int(base), Settings() if settings is None else settings, progress)
     departure, bar = pair.departure, resolution + got.rim  # departure: measured once, on the dense arc table
     components = [
-        CertifiedComponent(
-            int(p), float(d), float(a), float(ab), tuple(float(v) for v in box), departure, float(t), bar
-        )
-        for p, d, t, a, ab, box in zip(got.parts, got.depth, got.top, got.area, got.area_bound, got.box)
-    ]
+        CertifiedComponent(int(p), float(d), float(a), float(ab), tuple(map(float, box)), departure, float(t), bar,
+                           tuple(map(float, point)))
+        for p, d, t, a, ab, box, point in zip(got.parts, got.depth, got.top, got.area, got.area_bound, got.box,
+                                              got.point)
+    ]  # fmt: skip
     low = sum(1 for c in components if c.counted)
     high = sum(max(c.parts, 1) for c in components if not c.shallow)
     return Certified(

@@ -211,8 +211,14 @@ def _add_topology(sub):
     p = sub.add_parser(
         "topology",
         help="the certified count of excluded components at one opening, or over the opening Ψ and where it changes",
+        description="The certified count of excluded components at one opening (seconds at the defaults), or over "
+        "the opening Ψ with each change bracketed and named (an event of the eroded excluded set, or a "
+        "component's depth crossing resolution + rim) and each component followed over Ψ (about 5 minutes for "
+        "0-360 degrees on 2 cores at the defaults; counts are kept in --cache, so Ctrl-C keeps what is done and a "
+        "rerun resumes).",
     )
     _add_shape_args(p)
+    _add_vertices_arg(p)
     p.add_argument(
         "--opening",
         type=float,
@@ -245,13 +251,23 @@ def _add_topology(sub):
                    "degrees (default 0.3)")  # fmt: skip
     p.add_argument("--workers", type=int, default=None, help="without --opening: openings counted at once, each in "
                    "a worker process (default: all cores)")  # fmt: skip
+    p.add_argument(
+        "--cache",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="without --opening: a folder of "
+        "counted openings, read and written (default ~/.cache/sesp/counts, or $XDG_CACHE_HOME/sesp/counts)",
+    )
+    p.add_argument("--no-cache", action="store_true", help="without --opening: count every opening anew, keep none")
     p.add_argument("--json", action="store_true", help="print one JSON object (lengths in b, angles in degrees)")
     p.add_argument(
         "--plot",
         type=Path,
         default=None,
         metavar="PNG",
-        help="save a figure: the components in colour (--opening) or the count over Ψ with the changes' brackets",
+        help="save a figure: the components in colour (--opening), or the count over Ψ and each component's "
+        "depth on a log scale with resolution + rim (the persistence of the excluded set)",
     )
     p.set_defaults(func=_cmd_topology)
 
@@ -274,11 +290,9 @@ def _cmd_topology(args) -> int:
     _topology_defaults(args)
     check_resolution(args.resolution, args.rim, args.base)
     _check_figure_path(args.plot)
-    if args.opening is not None:
+    if args.opening is not None or args.vertices is not None:  # a polyline has no opening to vary
         return _topology_at_opening(args)
-    import json
-
-    from .topology import transitions
+    from .topology import Interrupted, transitions
 
     lo, hi = args.opening_range
     if not (0.0 <= lo < hi <= 360.0):
@@ -288,20 +302,49 @@ def _cmd_topology(args) -> int:
     step = _positive_degrees("--step", args.step, 1e-4, 360.0)
     width = _positive_degrees("--width", args.width, 1e-6, 90.0)
     family = _shape_from_args(args, 0.0)
+    cache = None if args.no_cache else _count_cache(args.cache)
     _announce_compile(*CERTIFIED_KERNELS)
-    found = transitions(
-        family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
-        rim=args.rim, base=args.base, segments=args.segments, progress=not args.quiet,
-        on_change=None if args.quiet else _print_change, workers=args.workers,
-    )  # fmt: skip
+    try:
+        found = transitions(
+            family, (math.radians(lo), math.radians(hi)), step=step, width=width, resolution=args.resolution,
+            rim=args.rim, base=args.base, segments=args.segments, progress=not args.quiet,
+            on_change=None if args.quiet else _print_change, on_run=None if args.quiet else _print_run,
+            workers=args.workers, cache=cache,
+        )  # fmt: skip
+    except Interrupted as stopped:
+        _report_transitions(stopped.partial, family, args)
+        where = f"kept in {cache.folder}: the same command resumes" if cache else "not kept (--no-cache)"
+        print(f"sesp: interrupted; the counts made are {where}", file=sys.stderr)
+        return 130
+    _report_transitions(found, family, args)
+    _save_map_plot(args.plot, "count_plot", found, family=family)
+    return 0
+
+
+def _count_cache(folder):
+    """The folder of counted openings: ``folder``, or the default."""
+    from .cache import CountCache, default_folder
+
+    return CountCache(default_folder() if folder is None else folder)
+
+
+def _report_transitions(found, family, args) -> None:
+    """The table (or JSON) of a search over Ψ, to stdout."""
+    import json
+
     found.label = f"n = {family.n:g}, m = {family.m:g}, aspect {family.aspect:g}, {args.segments} segments"
     if args.json:
         print(json.dumps({"n": family.n, "m": family.m, "aspect": family.aspect, "segments": args.segments,
                           "base": args.base, **found.to_dict()}))  # fmt: skip
     else:
         print(found)
-    _save_map_plot(args.plot, "count_plot", found, family=family)
-    return 0
+
+
+def _print_run(low, high, found) -> None:
+    """A run of openings with one count, to stderr as soon as it is settled (above the progress bar)."""
+    from tqdm.auto import tqdm
+
+    tqdm.write(f"counted: {math.degrees(low):.3f} .. {math.degrees(high):.3f} deg: {found.bracket}", file=sys.stderr)
 
 
 def _print_change(t) -> None:
@@ -317,20 +360,26 @@ def _topology_at_opening(args) -> int:
 
     from .certified import certified_components
 
-    particle = _shape_from_args(args, args.opening)
+    particle = _particle_from_args(args)
     _announce_compile(*CERTIFIED_KERNELS)
     found = certified_components(
         particle, resolution=args.resolution, rim=args.rim, base=args.base, segments=args.segments,
         progress=not args.quiet,
     )  # fmt: skip
-    if args.json:
-        print(json.dumps({"n": particle.n, "m": particle.m, "aspect": particle.aspect, "opening_deg": args.opening,
-                          "segments": args.segments, "base": args.base, **found.to_dict()}))  # fmt: skip
+    if args.vertices is not None:
+        named = {"vertices": str(args.vertices), "thickness": args.thickness}
+        said, title = f"the polyline of {args.vertices}, thickness {args.thickness:g} b", f"{args.vertices.name}"
     else:
-        print(f"n = {particle.n:g}, m = {particle.m:g}, opening {args.opening:g} deg, {args.segments} segments")
+        named = {"n": particle.n, "m": particle.m, "aspect": particle.aspect, "thickness": particle.thickness,
+                 "opening_deg": args.opening, "segments": args.segments}  # fmt: skip
+        said = f"n = {particle.n:g}, m = {particle.m:g}, opening {args.opening:g} deg, {args.segments} segments"
+        title = f"n = {particle.n:g}, opening {args.opening:g}°"
+    if args.json:
+        print(json.dumps({**named, "base": args.base, **found.to_dict()}))
+    else:
+        print(said)
         print(found)
         print(f"({found.evaluations} cells, {found.seconds:.1f} s; finest cell {found.floor:.1e} b)")
-    title = f"n = {particle.n:g}, opening {args.opening:g}°"
     _save_map_plot(args.plot, "certified_map", found, particle=particle, title=title)
     return 0
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -575,10 +576,31 @@ def certified_map(found, *, particle=None, title=None, fig=None):
     return fig
 
 
+@dataclass(frozen=True)
+class _Series:
+    """One line of :func:`count_plot`: openings (deg), the count's bracket, depths (b; opening × component or
+    × component followed over Ψ, NaN where none), resolution + rim (b) and change brackets (deg)."""
+
+    label: str
+    deg: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    depths: np.ndarray
+    bar: np.ndarray
+    brackets: list
+    followed: bool
+    ends: np.ndarray = None  # (component, 2): where each followed component's depth reaches 0, and its bar (deg)
+
+    @property
+    def first_end(self) -> int:
+        """The first component with an end estimate (its marker is named in the legend)."""
+        finite = np.flatnonzero(np.isfinite(self.ends[:, 0])) if self.ends is not None else []
+        return int(finite[0]) if len(finite) else -1
+
+
 def _count_series(source) -> list:
-    """Per line to draw: (label, openings in degrees, low, high, depths (opening × component, b; NaN where
-    none), bar (b, per opening: resolution + rim), change brackets in degrees), from a :class:`Transitions` or
-    a collected sweep that kept "topology" (one line per n)."""
+    """The :class:`_Series` of a :class:`Transitions` (its components followed over Ψ) or of a collected sweep
+    that kept "topology" (one per n)."""
     if isinstance(source, xr.Dataset):
         deg = _opening_degrees(source)
         bar = (source.excluded_components.attrs.get("resolution", 0.0) + source.component_rim).values
@@ -586,29 +608,34 @@ def _count_series(source) -> list:
             subsets = [(f"$n = {float(n):g}$", source.sel(n=n), bar[k]) for k, n in enumerate(source.n.values)]
         else:
             subsets = [("", source, bar)]
-        return [(label, deg, sub.excluded_components.values, sub.excluded_components_high.values,
-                 sub.component_depth.transpose("opening", ...).values.reshape(len(deg), -1),
-                 np.broadcast_to(b, deg.shape), []) for label, sub, b in subsets]  # fmt: skip
+        return [
+            _Series(label, deg, sub.excluded_components.values, sub.excluded_components_high.values,
+                    sub.component_depth.transpose("opening", ...).values.reshape(len(deg), -1),
+                    np.broadcast_to(b, deg.shape), [], False)
+            for label, sub, b in subsets
+        ]  # fmt: skip
     counts = [source.counts[o] for o in source.openings]
-    depths = np.full((len(counts), max([len(c.components) for c in counts], default=0) or 1), np.nan)
-    for k, c in enumerate(counts):
-        depths[k, : len(c.components)] = [comp.depth for comp in c.components]
     brackets = [(math.degrees(t.low), math.degrees(t.high)) for t in source.changes]
-    return [("", np.degrees(source.openings), np.array([c.low for c in counts]), np.array([c.high for c in counts]),
-             depths, np.array([c.resolution + c.rim for c in counts]), brackets)]  # fmt: skip
+    return [
+        _Series("", np.degrees(source.openings), np.array([c.low for c in counts]),
+                np.array([c.high for c in counts]), source.lives.depth.transpose("opening", "life").values,
+                np.array([c.resolution + c.rim for c in counts]), brackets, True,
+                np.column_stack([source.lives.end_estimate.values, source.lives.end_estimate_error.values]))
+    ]  # fmt: skip
 
 
 def count_plot(source, *, family=None, zoom="auto", fig=None):
     """The certified count of excluded components over the opening Ψ, and each component's certified depth.
 
-    ``source``: :func:`sesp.transitions`' result (each change's bracket shaded) or a collected sweep that kept
-    "topology" (one colour per n). Top: the count; where it is undecided, a bar from the bracket's low to its
-    high end, cut and marked ▲ one above the largest low end. Bottom: each component's certified depth (b, log
-    scale) and, dashed, resolution + rim: the depth from which a component is counted, so the count at any
-    depth can be read off; for the ASP the exact lens depth 1 − sin(Ψ/2). The right-hand column repeats both
-    over ``zoom`` (degrees; "auto": 165°–181°, where the changes near Ψ = π crowd together, for a
-    :class:`Transitions`, none for a sweep; None, or a range searched less than three times as wide: no zoom).
-    ``family`` names the particle in the title.
+    ``source``: :func:`sesp.transitions`' result (each change's bracket shaded, each component followed over
+    Ψ as one line) or a collected sweep that kept "topology" (one colour per n). Top: the count; where it is
+    undecided, a bar from the bracket's low to its high end, cut and marked ▲ one above the largest low end.
+    Bottom: each component's certified depth (b, log scale) and, dashed, resolution + rim: the depth from which
+    a component is counted, so the count at any depth can be read off (the persistence of the excluded set over
+    Ψ); for the ASP the exact lens depth 1 − sin(Ψ/2). The right-hand column repeats both over ``zoom``
+    (degrees; "auto": 165°–181°, where the changes near Ψ = π crowd together, for a :class:`Transitions`, none
+    for a sweep; None, or a range searched less than three times as wide: no zoom). ``family`` names the
+    particle in the title.
     """
     import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
@@ -616,22 +643,22 @@ def count_plot(source, *, family=None, zoom="auto", fig=None):
     series = _count_series(source)
     if isinstance(zoom, str):
         zoom = None if isinstance(source, xr.Dataset) else (165.0, 181.0)
-    start = min(float(s[1].min()) for s in series)
-    end = max(float(s[1].max()) for s in series)
+    start = min(float(s.deg.min()) for s in series)
+    end = max(float(s.deg.max()) for s in series)
     if zoom is not None and end - start < 3 * (zoom[1] - zoom[0]):
         zoom = None
     columns = 1 if zoom is None else 2
     fig = fig or plt.figure(figsize=(5.0 * columns + 1.0, 6.0), layout="constrained")
     axes = np.asarray(fig.subplots(2, columns, sharex="col", squeeze=False))
-    ceiling = max(int(np.max(s[2], initial=0)) for s in series) + 1
+    ceiling = max(int(np.max(s.low, initial=0)) for s in series) + 1
     for top, bottom in axes.T:
-        for i, series_i in enumerate(series):
-            _draw_count(top, bottom, series_i, f"C{i}", ceiling)
+        for i, one in enumerate(series):
+            _draw_count(top, bottom, one, f"C{i}", ceiling)
         top.yaxis.set_major_locator(MaxNLocator(integer=True))
         top.set_ylim(-0.3, ceiling + 0.3)
         bottom.set_yscale("log")
         bottom.set_xlabel(PSI_LABEL)
-        if family is not None and isinstance(family, SeSP) and family.n == 2 and family.m == 2 and family.aspect == 1:
+        if isinstance(family, SeSP) and family.n == 2 and family.m == 2 and family.aspect == 1:
             psi = np.linspace(start, min(end, 179.9), 400)
             bottom.plot(psi, 1 - np.sin(np.radians(psi) / 2), "k:", lw=1, label=r"exact lens $1 - \sin(\Psi/2)$")
     axes[0, 0].set_ylabel("excluded components")
@@ -643,8 +670,7 @@ def count_plot(source, *, family=None, zoom="auto", fig=None):
     axes[0, 0].legend(handles=_count_handles(series, ceiling), frameon=False, fontsize=7)
     axes[1, 0].legend(frameon=False, fontsize=7)
     named = f"{shape_label(family, opening=False)}: " if family is not None else ""
-    resolution = _count_resolution(source)
-    fig.suptitle(f"{named}excluded components at resolution {resolution:g} b", fontsize=10)
+    fig.suptitle(f"{named}excluded components at resolution {_count_resolution(source):g} b", fontsize=10)
     return fig
 
 
@@ -654,30 +680,47 @@ def _count_resolution(source) -> float:
     return float(source.resolution)
 
 
-def _draw_count(top, bottom, series, color, ceiling):
+def _draw_count(top, bottom, one: _Series, color, ceiling):
     """One series of :func:`count_plot`: its count, undecided bars, change brackets, depths and bar."""
-    label, deg, low, high, depths, bar, brackets = series
-    top.step(deg, low, where="post" if brackets else "mid", color=color, lw=1.2, label=label or "count")
-    undecided, above = high > low, high > ceiling
-    top.vlines(deg[undecided], low[undecided], np.minimum(high, ceiling)[undecided], color="C3", lw=2)
-    top.plot(deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5)
-    for lo, hi in brackets:
+    top.step(one.deg, one.low, where="post" if one.brackets else "mid", color=color, lw=1.2, label=one.label or "count")
+    undecided, above = one.high > one.low, one.high > ceiling
+    top.vlines(one.deg[undecided], one.low[undecided], np.minimum(one.high, ceiling)[undecided], color="C3", lw=2)
+    top.plot(one.deg[above], np.full(int(above.sum()), ceiling), "^", color="C3", ms=5)
+    for lo, hi in one.brackets:
         top.axvspan(lo, hi, color="C1", alpha=0.3, lw=0)
-    for k in range(depths.shape[1]):
-        bottom.plot(deg, depths[:, k], "o", ms=3, color=color, label=f"depths {label}".strip() if k == 0 else None)
-    bottom.plot(deg, bar, "--", color=color, lw=0.8, label=f"resolution + rim {label}".strip())
+    for k in range(one.depths.shape[1]):
+        seen = np.isfinite(one.depths[:, k])
+        if one.followed:  # each component followed over Ψ: one line each, and where its depth reaches 0
+            (line,) = bottom.plot(one.deg[seen], one.depths[seen, k], "o-", ms=2.5, lw=0.8, label=f"component {k + 1}")
+            end, bar = one.ends[k]
+            if np.isfinite(end):
+                bottom.errorbar(
+                    end,
+                    one.depths[seen, k][-1] / 3,
+                    xerr=bar,
+                    fmt="x",
+                    ms=5,
+                    color=line.get_color(),
+                    capsize=2,
+                    label="where its depth reaches 0 (fit)" if k == one.first_end else None,
+                )
+        else:
+            label = f"depths {one.label}".strip() if k == 0 else None
+            bottom.plot(one.deg[seen], one.depths[seen, k], "o", ms=3, color=color, label=label)
+    bottom.plot(one.deg, one.bar, "--", color="k" if one.followed else color, lw=0.8,
+                label=f"resolution + rim {one.label}".strip())  # fmt: skip
 
 
 def _count_handles(series, ceiling) -> list:
     """Legend entries of :func:`count_plot`'s top panel: every mark drawn, once."""
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color=f"C{i}", lw=1.2, label=s[0] or "count") for i, s in enumerate(series)]
-    if any(s[6] for s in series):
+    handles = [Line2D([], [], color=f"C{i}", lw=1.2, label=s.label or "count") for i, s in enumerate(series)]
+    if any(s.brackets for s in series):
         handles.append(Line2D([], [], color="C1", lw=6, alpha=0.3, label="bracket of a change"))
-    if any((s[3] > s[2]).any() for s in series):
+    if any((s.high > s.low).any() for s in series):
         handles.append(Line2D([], [], color="C3", lw=2, label="undecided: the bracket"))
-    if any((s[3] > ceiling).any() for s in series):
+    if any((s.high > ceiling).any() for s in series):
         handles.append(Line2D([], [], color="C3", marker="^", ls="", ms=5, label=f"bracket reaching above {ceiling}"))
     return handles
 

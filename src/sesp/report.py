@@ -96,6 +96,31 @@ def _sweep_lines(ds) -> list:
     return lines
 
 
+def _lives_lines(ds) -> list:
+    """Each excluded component followed over the opening: where it is listed, its depth, where it reaches 0."""
+    others = [d for d in ds.life_depth.dims if d not in ("life", "opening")]
+    stacked = ds[["life_depth", "life_end_estimate", "life_end_estimate_error"]]
+    stacked = stacked.stack(slice_=others) if others else stacked.expand_dims("slice_")
+    deg = np.degrees(ds.opening.values)
+    lines = [f"components followed over the opening (depth: certified lower bound, b; resolution "
+             f"{ds.excluded_components.attrs['resolution']:g} b):"]  # fmt: skip
+    for k in range(stacked.sizes["slice_"]):
+        one = stacked.isel(slice_=k)
+        label = _point_label(one, others)
+        for life in one.life.values:
+            depth = one.life_depth.sel(life=life).values
+            seen = np.isfinite(depth)
+            if not seen.any():
+                continue
+            said = f"  {label + ': ' if label else ''}{int(life) + 1}: {deg[seen][0]:g} .. {deg[seen][-1]:g} deg, "
+            said += f"depth {np.nanmax(depth):.3g} .. {depth[seen][-1]:.3g} b"
+            end = float(one.life_end_estimate.sel(life=life))
+            if np.isfinite(end):
+                said += f"; reaches 0 at {end:.2f} ± {float(one.life_end_estimate_error.sel(life=life)):.2f} deg"
+            lines.append(said)
+    return lines
+
+
 def describe(ds, *, rtol: float = RTOL) -> str:
     """A human-readable summary of any sesp dataset (scan, summary, point, sweep, Monte Carlo).
 
@@ -108,6 +133,8 @@ def describe(ds, *, rtol: float = RTOL) -> str:
         lines += [_particle_line(attrs, p) for p in ("particle", "other")]
     if kind == "sesp.sweep":
         lines += _sweep_lines(ds)
+        if "life_depth" in ds:
+            lines += _lives_lines(ds)
     elif kind == "sesp.monte_carlo":
         lines.append(f"samples  : {attrs['samples']}")
         lines.append(f"A_ex     : {float(ds.excluded_area):.6g} ± {float(ds.excluded_area_error):.2g} b^2")

@@ -85,6 +85,7 @@ from .grid import Grid
 from .io import load, save
 from .measures import RTOL
 from .pair import Pair
+from .persistence import sweep_lives
 from .progress import progress_bar
 from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
@@ -842,7 +843,10 @@ def collect(folder) -> xr.Dataset:
                 fill = np.nan if var.dtype.kind == "f" else 0
                 arrays[name] = np.full(shape + var.shape, fill, dtype=var.dtype)
             arrays[name][tuple(entry["index"])] = var.values
-    return _collected_dataset(manifest, dims, arrays, first)
+    collected = _collected_dataset(manifest, dims, arrays, first)
+    if "component_depth" in collected and "opening" in collected.component_depth.dims:  # each component over Ψ
+        collected = collected.merge(sweep_lives(collected))
+    return collected
 
 
 def _parameter_coords(name, dims, values) -> dict:

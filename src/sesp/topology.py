@@ -27,6 +27,7 @@ quote :func:`sesp.certified_components`.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import heapq
 import itertools
 import math
@@ -38,11 +39,13 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from .cache import CountCache
 from .certified import BASE, RESOLUTION, Certified, certified_components
 from .checks import check_resolution
 from .dataset import cell_area
 from .kernels import cells as cell_kernels
-from .pair import Pair
+from .pair import Pair, as_pair
+from .persistence import lives, steps_between
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS, SeSP
 from .workers import start_pool, stop_pool
@@ -53,6 +56,7 @@ __all__ = [
     "Transition",
     "Transitions",
     "transitions",
+    "Interrupted",
     "opening_family",
     "STEP",
     "WIDTH",
@@ -113,40 +117,34 @@ class Transition:
         what is known of it changes (a count becomes undecided, or is decided), where the count may not."""
         return _apart(self.before, self.after)
 
+    @property
+    def steps(self) -> list:
+        """The components' parts in the change (:func:`sesp.persistence.steps_between`)."""
+        return steps_between(self.before, self.after)
+
+    @property
+    def kind(self) -> str:
+        """ "event" where components deeper than ε + rim on both sides join or part, "crossing" where a
+        component's depth passes ε + rim (the count at a lower rim does not change here), "undecided" where the
+        count on either side is not one number."""
+        if self.before.count is None or self.after.count is None:
+            return "undecided"
+        return "event" if any(step.kind == "event" for step in self.steps) else "crossing"
+
     def what(self) -> str:
-        """In words: the count on each side, and what the deepest component that appears or vanishes is."""
-        said = f"{self.before.bracket} -> {self.after.bracket}" + ("" if self.certain else " (the brackets overlap)")
-        gone = _unmatched(self.before, self.after)
-        new = _unmatched(self.after, self.before)
-        if gone:
-            said += f"; {len(gone)} vanishing or joining: {_described(gone[0])}"
-        if new:
-            said += f"; {len(new)} appearing or parting: {_described(new[0])}"
-        return said
+        """In words: the count on each side, the kind of change, and each component's part in it (where the
+        count is undecided, which component is undecided and why)."""
+        said = f"{self.before.bracket} -> {self.after.bracket}: {self.kind}"
+        if self.kind == "undecided":
+            side = self.before if self.before.count is None else self.after
+            unsure = [c for c in side.components if not c.decided]
+            return f"{said}; " + "; ".join(f"{_place(c)}: {c.why()}" for c in unsure[:2])
+        return f"{said}; " + "; ".join(str(step).split(": ", 1)[1] for step in self.steps)
 
 
-def _described(component) -> str:
-    """The deepest such component: its certified depth (or that none of it is certified) and where it lies."""
+def _place(component) -> str:
     x0, x1, y0, y1 = component.box
-    depth = f"{component.depth:.2g} b deep" if component.area else "undecided (no cell certified)"
-    return f"{depth} at x {x0:+.3f}..{x1:+.3f}, y {y0:+.3f}..{y1:+.3f} b"
-
-
-def _unmatched(found: Certified, other: Certified) -> list:
-    """The components of ``found`` whose box meets no box of ``other``'s components, or meets one that meets
-    another of ``found``'s (a join or a split), deepest first; only those not shown shallower than ε + rim."""
-
-    def meets(a, b):
-        return a.box[0] <= b.box[1] and b.box[0] <= a.box[1] and a.box[2] <= b.box[3] and b.box[2] <= a.box[3]
-
-    mine, theirs = ([c for c in f.components if not c.shallow] for f in (found, other))  # those that may count
-    out = []
-    for c in mine:
-        partners = [d for d in theirs if meets(c, d)]
-        shared = any(meets(e, d) for d in partners for e in mine if e is not c)
-        if not partners or shared:
-            out.append(c)
-    return out
+    return f"the component at x {x0:+.3f}..{x1:+.3f}, y {y0:+.3f}..{y1:+.3f} b"
 
 
 @dataclass
@@ -167,6 +165,12 @@ class Transitions:
         """rad, ascending."""
         return np.array(sorted(self.counts))
 
+    @functools.cached_property
+    def lives(self) -> xr.Dataset:
+        """Each component's certified depth bracket over the openings counted, followed from one to the next,
+        with where its depth reaches 0 (:func:`sesp.persistence.lives`)."""
+        return lives(self.counts)
+
     def __str__(self) -> str:
         lines = []
         if self.label:
@@ -180,7 +184,8 @@ class Transitions:
         first = sorted(self.runs_of())
         for a, b, found in first:
             lines.append(f"{math.degrees(a):9.3f} {math.degrees(b):9.3f} {found.bracket:>6}")
-        lines.append(f"changes (brackets at most {math.degrees(self.width):.3g} deg wide):")
+        lines.append(f"changes (brackets at most {math.degrees(self.width):.3g} deg wide; an event changes E_ε, a "
+                     "crossing is a component's depth passing resolution + rim):")  # fmt: skip
         for t in self.changes:
             lines.append(f"  {math.degrees(t.low):9.3f} .. {math.degrees(t.high):9.3f}: {t.what()}")
         if not self.changes:
@@ -191,8 +196,27 @@ class Transitions:
             for t in certain:
                 lines.append(f"  {math.degrees(t.low):9.3f} .. {math.degrees(t.high):9.3f}: {t.before.count} -> "
                              f"{t.after.count}")  # fmt: skip
+        lines += self._lives_lines()
         lines.append(f"({len(self.counts)} openings counted, {self.seconds:.0f} s)")
         return "\n".join(lines)
+
+    def _lives_lines(self) -> list:
+        """The components followed over Ψ: where each is listed, its depth there, and where it reaches 0."""
+        found = self.lives
+        if not found.sizes.get("life"):
+            return []
+        lines = ["components followed over the opening (depth: certified lower bound, b; ends: where it reaches 0):"]
+        for life in found.life.values:
+            row = found.sel(life=life)
+            seen = np.isfinite(row.depth.values)
+            depths = row.depth.values[seen]
+            said = (f"  {int(life) + 1}: {float(row.began):.3f} .. {float(row.ended):.3f} deg, depth "
+                    f"{depths.max():.3g} .. {depths[-1]:.3g} b")  # fmt: skip
+            if np.isfinite(float(row.end_estimate)):
+                said += (f"; reaches 0 at {float(row.end_estimate):.2f} ± {float(row.end_estimate_error):.2f} deg "
+                         f"(depth ≈ c (end − Ψ)^{float(row.end_exponent):.2f})")  # fmt: skip
+            lines.append(said)
+        return lines
 
     def certain_changes(self) -> list:
         """Where the count certainly changes: a :class:`Transition` between each two openings counted whose
@@ -225,15 +249,43 @@ class Transitions:
             "transitions": [
                 {"low_deg": math.degrees(t.low), "high_deg": math.degrees(t.high), "low": t.low, "high": t.high,
                  "count_before": [t.before.low, t.before.high], "count_after": [t.after.low, t.after.high],
-                 "certain": t.certain, "what": t.what()}
+                 "certain": t.certain, "kind": t.kind, "what": t.what(),
+                 "steps": [{"kind": step.kind, "what": step.what, "box": list((step.before or step.after).box),
+                            "depth_before": step.before.depth if step.before is not None else None,
+                            "depth_after": step.after.depth if step.after is not None else None}
+                           for step in (t.steps if t.kind != "undecided" else [])]}
                 for t in self.changes
             ],
+            "components": _lives_dict(self.lives),
             "certain_changes": [
                 {"low_deg": math.degrees(t.low), "high_deg": math.degrees(t.high), "low": t.low, "high": t.high,
                  "count_before": t.before.count, "count_after": t.after.count}
                 for t in self.certain_changes()
             ],
         }  # fmt: skip
+
+
+def _lives_dict(found: xr.Dataset) -> list:
+    """:attr:`Transitions.lives` as plain numbers: per component, where it is listed and its depth bracket."""
+    out = []
+    for life in found.life.values:
+        row = found.sel(life=life)
+        seen = np.isfinite(row.depth.values)
+        out.append({
+            "began_deg": float(row.began), "ended_deg": float(row.ended),
+            "end_estimate_deg": _number(row.end_estimate), "end_estimate_error_deg": _number(row.end_estimate_error),
+            "end_exponent": _number(row.end_exponent),
+            "depths": [{"opening_deg": float(o), "depth": float(d), "top": float(t), "counted": bool(c)}
+                       for o, d, t, c in zip(found.opening_deg.values[seen], row.depth.values[seen],
+                                             row.top.values[seen], row.counted.values[seen])],
+        })  # fmt: skip
+    return out
+
+
+def _number(value):
+    """A float, or None for NaN (JSON has no NaN)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
 
 
 def _openings(opening_range, step):
@@ -258,7 +310,9 @@ def transitions(
     segments: int = DEFAULT_SEGMENTS,
     progress: bool = False,
     on_change=None,
+    on_run=None,
     workers: int | None = None,
+    cache=None,
 ) -> Transitions:
     """Where the certified count of excluded components changes as the opening Ψ varies.
 
@@ -277,14 +331,26 @@ def transitions(
     on_change : callable, optional
         Called with each :class:`Transition` as soon as it is bracketed: a long search shows, or keeps, what
         it found so far.
+    on_run : callable, optional
+        Called with (first opening, last opening, :class:`~sesp.Certified`) for each run of the first pass's
+        openings with one count, as soon as every opening up to its end is counted.
     workers : int, optional
         Count this many openings at once, each in a worker process (default: one per core; 1: in this
         process, one opening at a time with all of numba's threads). The counts, and so the result, are the
         same (``benchmarks/transition_tables.py --workers 1 2``).
+    cache : str or Path, optional
+        A folder of counted openings (:class:`sesp.cache.CountCache`): counts found there are not counted
+        again, and each count made is written there as soon as it is done, so an interrupted search resumes.
 
     Returns
     -------
     Transitions
+
+    Raises
+    ------
+    Interrupted
+        On Ctrl-C, after the workers are stopped; its ``partial`` is the :class:`Transitions` of what was
+        counted so far.
 
     Examples
     --------
@@ -305,47 +371,86 @@ def transitions(
         raise ValueError(f"workers must be a whole number of processes >= 1, got {workers!r}")
     grid = _openings(openings, step)
     start = time.perf_counter()
-    counter = _Counter(opening_family(family), (resolution, rim, base, segments), int(workers))
+    kept = None if cache is None else cache if isinstance(cache, CountCache) else CountCache(cache)
+    counter = _Counter(opening_family(family), (resolution, rim, base, segments), int(workers), kept)
+    state = {"counts": {}, "changes": []}  # what is known so far, kept whatever stops the search
     try:
-        cache, changes = _search(counter, grid, width, progress, on_change)
-    except BaseException:  # Ctrl-C, or a failed count: stop the workers now
+        _search(counter, grid, width, progress, (on_change, on_run), state)
+    except BaseException as stopped:  # Ctrl-C, or a failed count: stop the workers now
         counter.stop()
+        if isinstance(stopped, KeyboardInterrupt):
+            partial = _result(state, resolution, step, width, start)
+            raise Interrupted(partial) from stopped
         raise
     counter.close()
-    changes.sort(key=lambda t: t.low)
-    return Transitions(cache, changes, resolution, step, width, seconds=time.perf_counter() - start)
+    return _result(state, resolution, step, width, start)
 
 
-def _search(counter, grid, width, progress, on_change):
-    """(counts per opening, changes): counts at ``grid``, then every step where what is known changes bisected
-    to ``width`` (:func:`transitions`)."""
-    cache = {}
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`transitions`: ``partial`` holds what was counted (a :class:`Transitions`)."""
+
+    def __init__(self, partial):
+        super().__init__("interrupted")
+        self.partial = partial
+
+
+def _result(state, resolution, step, width, start) -> Transitions:
+    changes = sorted(state["changes"], key=lambda t: t.low)
+    return Transitions(dict(state["counts"]), changes, resolution, step, width, seconds=time.perf_counter() - start)
+
+
+def _settled_runs(grid, counts, printed, on_run):
+    """Call ``on_run`` for each run of the first pass's openings with one count whose openings up to its end are
+    all counted, and that is followed by another count (``printed``: [index of the next opening to settle])."""
+    k = printed[0]
+    while k < len(grid) and grid[k] in counts:
+        end = k
+        while (
+            end + 1 < len(grid) and grid[end + 1] in counts and _state(counts[grid[end + 1]]) == _state(counts[grid[k]])
+        ):
+            end += 1
+        if end + 1 < len(grid) and grid[end + 1] not in counts:
+            break  # the run may go on: not settled yet
+        on_run(grid[k], grid[end], counts[grid[k]])
+        k = end + 1
+    printed[0] = k
+
+
+def _search(counter, grid, width, progress, callbacks, state):
+    """Counts at ``grid``, then every step where what is known changes bisected to ``width``
+    (:func:`transitions`), written into ``state`` ("counts" per opening, "changes") as they are found."""
+    on_change, on_run = callbacks
+    counts, changes = state["counts"], state["changes"]
+    printed = [0]
     with progress_bar(len(grid), progress, "openings", unit="Ψ") as bar:
         for o in grid:
             counter.ask(o)
         while (got := counter.next()) is not None:
-            cache[got[0]] = got[1]
+            counts[got[0]] = got[1]
             bar.update(1)
-    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if changed(cache[a], cache[b])]
+            if on_run is not None:
+                _settled_runs(grid, counts, printed, on_run)
+    pending = [(a, b) for a, b in zip(grid[:-1], grid[1:]) if changed(counts[a], counts[b])]
     done = width + 1e-12  # rad: a bracket this narrow is done (the halved openings' rounding is far below this)
 
     def halvings(lo, hi):  # counts a bracket [lo, hi] needs until it is at most ``width`` wide
         return max(0, math.ceil(math.log2((hi - lo) / done)))
 
-    changes, brackets = [], {}  # brackets: the middle being counted -> its bracket
+    brackets = {}  # the middle being counted -> its bracket
 
     def bisect(a, b):
         if b - a > done:
             brackets[0.5 * (a + b)] = (a, b)
-            counter.ask(0.5 * (a + b), max(cache[a].seconds, cache[b].seconds))
+            counter.ask(0.5 * (a + b), max(counts[a].seconds, counts[b].seconds))
             return
-        changes.append(Transition(a, b, cache[a], cache[b]))
+        changes.append(Transition(a, b, counts[a], counts[b]))
         if on_change is not None:
             on_change(changes[-1])
 
     def guess():  # an opening a bisection under way may ask for next: a middle of a half of the costliest
-        options = [(-max(cache[a].seconds, cache[b].seconds), q) for mid, (a, b) in brackets.items() if b - a > 2 * done
-                   for q in (0.5 * (a + mid), 0.5 * (mid + b)) if q not in cache and not counter.knows(q)]  # fmt: skip
+        options = [(-max(counts[a].seconds, counts[b].seconds), q)
+                   for mid, (a, b) in brackets.items() if b - a > 2 * done
+                   for q in (0.5 * (a + mid), 0.5 * (mid + b)) if q not in counts and not counter.knows(q)]  # fmt: skip
         return min(options)[1] if options else None
 
     counter.guess = guess
@@ -354,16 +459,15 @@ def _search(counter, grid, width, progress, on_change):
             bisect(a, b)
         while (got := counter.next()) is not None:
             mid, found = got
-            cache[mid] = found
+            counts[mid] = found
             bar.update(1)
             a, b = brackets.pop(mid)
-            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if changed(cache[lo], cache[hi])]
+            halves = [(lo, hi) for lo, hi in ((a, mid), (mid, b)) if changed(counts[lo], counts[hi])]
             if len(halves) != 1:  # a second branch to bisect, or none left (the change undid itself)
                 bar.total += (len(halves) - 1) * halvings(a, mid)
                 bar.refresh()
             for lo, hi in halves:
                 bisect(lo, hi)
-    return cache, changes
 
 
 def _count(particle, resolution, rim, base, segments) -> Certified:
@@ -378,16 +482,28 @@ class _Counter:
     A worker with nothing asked of it counts ahead what ``guess`` says may be asked next (the next middles of a
     bracket being bisected); a count ahead that is never asked for is dropped, so the result is the same."""
 
-    def __init__(self, make, settings, workers):
-        self.make, self.settings, self.workers = make, settings, workers
+    def __init__(self, make, settings, workers, cache=None):
+        self.make, self.settings, self.workers, self.cache = make, settings, workers, cache
         self.waiting, self.running = [], {}  # waiting: a heap of (-cost, order asked, opening)
         self.asked = itertools.count()
         self.ahead, self.spare, self.ready = set(), {}, []  # counting ahead; counted ahead; asked, counted ahead
         self.guess = None
         self.pool = None if workers == 1 else start_pool(workers)
 
+    def _key(self, opening) -> str:
+        return CountCache.key(as_pair(self.make(opening), segments=self.settings[3]), self.settings)
+
+    def _kept(self, opening, found):
+        """``found``, written to the cache (where there is one)."""
+        if self.cache is not None:
+            self.cache.put(self._key(opening), found)
+        return found
+
     def ask(self, opening, cost=0.0):
-        if opening in self.spare:
+        known = None if self.cache is None else self.cache.get(self._key(opening))
+        if known is not None:
+            self.ready.append((opening, known))
+        elif opening in self.spare:
             self.ready.append((opening, self.spare.pop(opening)))
         elif opening in self.ahead:
             self.ahead.discard(opening)  # now asked for: returned when it is done
@@ -406,16 +522,17 @@ class _Counter:
             if not self.waiting:
                 return None
             opening = heapq.heappop(self.waiting)[2]
-            return opening, _count(self.make(opening), *self.settings)
+            return opening, self._kept(opening, _count(self.make(opening), *self.settings))
         self._fill()
         while self.waiting or any(o not in self.ahead for o in self.running.values()):
             finished, _ = wait(self.running, return_when=FIRST_COMPLETED)
             future = min(finished, key=self.running.get)
             opening = self.running.pop(future)
+            found = self._kept(opening, future.result())
             if opening not in self.ahead:
-                return opening, future.result()
+                return opening, found
             self.ahead.discard(opening)
-            self.spare[opening] = future.result()
+            self.spare[opening] = found
             self._fill()
         return None
 

@@ -87,19 +87,20 @@ def proved_depth(problem: Problem, x, y, lo, bound, start):
     return lo, start
 
 
-def deepest(problem: Problem, leaves: Leaves, k, depth, top, memo: Memo) -> float:
-    """b: the depth ``depth`` proved at leaf k's centre, raised by a pattern search from it (DIRECTIONS
-    directions, steps from half that depth, halved HALVINGS times, at most MOVES moves each, a move where a
-    neighbour is proved ``search_ratio`` times as deep): the inscribed radius of the component, from below.
-    ``top`` (b): an upper bound on the depth anywhere in the component (a point proved deeper than the step lies
-    in the same component). Searched once per leaf (``memo.deepest``)."""
+def deepest(problem: Problem, leaves: Leaves, k, depth, top, memo: Memo) -> tuple:
+    """(depth, x, y): the depth ``depth`` (b) proved at leaf k's centre, raised by a pattern search from it
+    (DIRECTIONS directions, steps from half that depth, halved HALVINGS times, at most MOVES moves each, a move
+    where a neighbour is proved ``search_ratio`` times as deep): the inscribed radius of the component, from
+    below, and the point (b) where it is proved. ``top`` (b): an upper bound on the depth anywhere in the
+    component (a point proved deeper than the step lies in the same component). Searched once per leaf
+    (``memo.deepest``)."""
     key = (leaves.level[k], leaves.i[k], leaves.j[k])
     if key not in memo.deepest:
         memo.deepest[key] = _searched_deeper(problem, leaves.x[k], leaves.y[k], depth, top, leaves.middle[k])
     return memo.deepest[key]
 
 
-def _searched_deeper(problem: Problem, x, y, depth, top, start) -> float:
+def _searched_deeper(problem: Problem, x, y, depth, top, start) -> tuple:
     """:func:`deepest` from (x, y), proved ``depth`` deep; the walks begin where the last one failed."""
     settings = problem.settings
     step = depth / 2
@@ -109,7 +110,7 @@ def _searched_deeper(problem: Problem, x, y, depth, top, start) -> float:
     for _ in range(HALVINGS):
         for _ in range(MOVES):
             if depth * settings.depth_ratio >= top:
-                return depth
+                return depth, float(x), float(y)
             xs, ys = x + step * np.cos(turns), y + step * np.sin(turns)
             r = np.full(DIRECTIONS, depth * settings.search_ratio)
             deeper = cover(problem, xs, ys, r, steps, 0.0, start, True, stops) == 1
@@ -119,4 +120,4 @@ def _searched_deeper(problem: Problem, x, y, depth, top, start) -> float:
             x, y = xs[np.argmax(deeper)], ys[np.argmax(deeper)]
             depth, start = proved_depth(problem, x, y, depth * settings.search_ratio, top, start)
         step /= 2
-    return depth
+    return depth, float(x), float(y)

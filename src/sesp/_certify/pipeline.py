@@ -23,7 +23,8 @@ from .settings import Settings
 class Outcome:
     """A finished count, as arrays. Per candidate listed, deepest first: ``parts`` (certified parts that may
     each be counted), ``depth`` and ``top`` (b: certified lower and upper bounds on its depth), ``area`` and
-    ``area_bound`` (b²: its in-leaves, all its leaves) and ``box`` ((k, 4): xmin, xmax, ymin, ymax, b). Per
+    ``area_bound`` (b²: its in-leaves, all its leaves), ``box`` ((k, 4): xmin, xmax, ymin, ymax, b) and
+    ``point`` ((k, 2), b: where its depth is proved, or its leaf of largest upper bound where none is). Per
     leaf, ``cells``: x, y, side (b), status and component (its candidate's rank, −1 for none). ``rim`` (b):
     the rim used; ``floor`` (b): the smallest cell side reached; ``evaluations``: leaves evaluated."""
 
@@ -33,6 +34,7 @@ class Outcome:
     area: np.ndarray
     area_bound: np.ndarray
     box: np.ndarray
+    point: np.ndarray
     cells: dict
     rim: float
     floor: float
@@ -74,8 +76,9 @@ def _outcome(problem, leaves, found, refinement, memo, evaluations) -> Outcome:
     area = (leaves.h * math.sqrt(2.0)) ** 2
     depth, best = depths(problem, leaves, status, found.upper, candidate, memo)
     top = tops(found.upper, candidate)
+    where = {}
     for root, k in best.items():
-        depth[root] = deepest(problem, leaves, k, depth[root], top[root], memo)
+        depth[root], *where[root] = deepest(problem, leaves, k, depth[root], top[root], memo)
     member = np.nonzero(candidate >= 0)[0]
     member = member[np.argsort(candidate[member], kind="stable")]  # the leaves of each candidate, one run per root
     roots, first = np.unique(candidate[member], return_index=True)
@@ -87,8 +90,10 @@ def _outcome(problem, leaves, found, refinement, memo, evaluations) -> Outcome:
         kept.append(r)
         box = (leaves.x[m].min(), leaves.x[m].max(), leaves.y[m].min(), leaves.y[m].max())
         parts = len(np.unique(seed[m][seed[m] >= 0]))
-        rows.append((parts, depth[r], top[r], area[inn].sum(), area[m].sum(), *box))
-    table = np.array(rows, dtype=float).reshape(-1, 9)
+        tallest = m[np.argmax(found.upper[m])]
+        point = where.get(r, (leaves.x[tallest], leaves.y[tallest]))
+        rows.append((parts, depth[r], top[r], area[inn].sum(), area[m].sum(), *box, *point))
+    table = np.array(rows, dtype=float).reshape(-1, 11)
     order = np.argsort(-table[:, 1], kind="stable")
     table = table[order]
     rank = np.full(len(leaves), -1)
@@ -99,6 +104,7 @@ def _outcome(problem, leaves, found, refinement, memo, evaluations) -> Outcome:
     }  # fmt: skip
     floor = 2.0 * problem.half / (problem.base * 2.0 ** int(leaves.level.max()))
     return Outcome(
-        table[:, 0].astype(int), table[:, 1], table[:, 2], table[:, 3], table[:, 4], table[:, 5:], cells,
+        table[:, 0].astype(int), table[:, 1], table[:, 2], table[:, 3], table[:, 4], table[:, 5:9], table[:, 9:],
+        cells,
         problem.rim, floor, evaluations,
     )  # fmt: skip

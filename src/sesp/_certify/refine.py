@@ -83,7 +83,7 @@ def _candidate_depths(problem: Problem, leaves: Leaves, found: Classified, candi
     undecided = (candidate >= 0) & (top[np.maximum(candidate, 0)] >= problem.bar)
     for r in np.unique(candidate[undecided & (depth[np.maximum(candidate, 0)] < problem.bar)]):
         if r in best:  # not proved that deep at the leaves tried: search for a deeper point from the best
-            depth[r] = deepest(problem, leaves, best[r], depth[r], top[r], memo)
+            depth[r] = deepest(problem, leaves, best[r], depth[r], top[r], memo)[0]
     return depth, top
 
 
