@@ -604,3 +604,26 @@ def test_settings_are_checked():
         Settings(depth_tolerance=2.0)
     with pytest.raises(ValueError, match="turns"):
         Settings(turns=())
+
+
+def test_thick_particles_are_certified_deep_where_their_curves_stay_near_and_excluded_by_brute_force():
+    """Thick particles overlap where their curves come within the contact distance D, crossed or not: a position
+    whose curves stay within D − r of each other at every φ (their distance grows by at most ρ per radian) is r
+    deep. Positions of the ASP at 90°, 0.05 b thick, certified 4e-3 b deep where the curves cross at some φ and
+    not at others, and 16 points 0.999 of that from each, are excluded exactly in φ."""
+    from sesp.orientations import widest_window
+
+    part, r = SeSP(n=2, opening=math.radians(90), thickness=0.05), 4e-3
+    pair = as_pair(part, segments=128)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    rng = np.random.default_rng(3)
+    x, y = rng.uniform(-2.1, 2.1, 3000), rng.uniform(-2.1, 2.1, 3000)
+    thick = depth_kernels.certified_deep(curves, x, y, r, 4096, contact=pair.contact)
+    crossing = depth_kernels.certified_deep(curves, x, y, r, 4096)  # the thin curves crossed at every φ
+    near = np.flatnonzero((thick == 1) & (crossing != 1))
+    assert len(near) >= 20  # the band of width about D about the thin excluded set
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x[near], *(x[near] + 0.999 * r * math.cos(t) for t in turns)])
+    ys = np.concatenate([y[near], *(y[near] + 0.999 * r * math.sin(t) for t in turns)])
+    width, _ = widest_window(part, xs, ys, segments=128)
+    assert np.all(width == 0)

@@ -113,11 +113,11 @@ def windows(problem: Problem, x, y):
 
 
 def cover(problem: Problem, x, y, r, steps, fallback=0.0, start=0.0, tips=False, stops=None):
-    """:func:`sesp.kernels.depth.certified_deep` of positions (x, y) at depth ``r`` (b; the contact distance
-    of thick particles taken off), else ``fallback``, with two end points tried where ``tips``."""
-    r = np.maximum(r - problem.pair.contact, 1e-300)
+    """:func:`sesp.kernels.depth.certified_deep` of positions (x, y) at depth ``r`` (b) of the particles, thick
+    or thin, else ``fallback``, with two end points tried where ``tips``."""
     options = problem.settings.walk_options(tips)
-    return depth_kernels.certified_deep(problem.curves, x, y, r, steps, fallback, start, options, stops)
+    contact = problem.pair.contact
+    return depth_kernels.certified_deep(problem.curves, x, y, r, steps, fallback, start, options, stops, contact)
 
 
 def certified_disks(problem: Problem, x, y, h, steps, start):

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit, prange
 
 from .common import JIT, small_chunks
-from .orientations import TWO_PI, chunk_boxes, chunk_count
+from .orientations import TWO_PI, chunk_boxes, chunk_count, clearance
 from .runs import (
     Curves,
     Moved,
@@ -52,6 +52,10 @@ from .tips import two_tips
 # lengthen (whether two end points are tried, and whether a pair r apart is also lengthened)
 Options = namedtuple("Options", "max_crossings long_crossings fallback_steps least_tip_step tips lengthen")
 OPTIONS = Options(1024, 16, 64, 1e-6, True, True)
+# b: the least depth at which the curves are walked crossed. Below it the two roots of an end point's passage
+# through a segment, r apart, merge in floating point (coordinates are of order 1 b), the passage is missed and
+# the walk would prove too much; a larger depth proves less, so raising a smaller one to it stays sound.
+LEAST_DEPTH = 1e-9
 
 
 @njit(**JIT)
@@ -112,38 +116,61 @@ def _interval_at(walks, moved, got, phi, first, lengthen):
 
 
 @njit(**JIT)
-def _walk(curves, tx, ty, r, roots, options):
-    """A :data:`~sesp.kernels.runs.Walk` of position (tx, ty) at depth r, and room for curve 2 placed."""
+def _walk(curves, tx, ty, depth, roots, options):
+    """A :data:`~sesp.kernels.runs.Walk` of position (tx, ty) at ``depth`` (r, margin), and room for curve 2
+    placed."""
     v1, v2 = curves.v1, curves.v2
     near1, far1 = np.empty(v1.shape[0] - 1), np.empty(v1.shape[0] - 1)
     segment_radii(v1, tx, ty, near1, far1)
     cross = np.empty((options.max_crossings, 2), dtype=np.int64)
     moved = Moved(np.empty_like(v2), np.empty((chunk_count(v2), 4)), cross)
-    return Walk(curves, near1, far1, tx, ty, r, roots, options), moved
+    return Walk(curves, near1, far1, tx, ty, depth[0], depth[1], roots, options), moved
 
 
 @njit(**JIT)
 def _deeper(walk, r):
-    """``walk`` at depth r."""
-    return Walk(walk.curves, walk.near1, walk.far1, walk.tx, walk.ty, r, walk.roots, walk.options)
+    """``walk`` at depth r (its margin kept: it holds at any smaller depth)."""
+    return Walk(walk.curves, walk.near1, walk.far1, walk.tx, walk.ty, r, walk.margin, walk.roots, walk.options)
 
 
 @njit(**JIT)
-def cover(prepared_curves, tx, ty, r, fallback, max_steps, start, options):
-    """(status, φ): status 1 if position (tx, ty) is certified at least ``r`` deep in the excluded set (module
-    notes) within ``max_steps`` intervals of φ; 2 if not, but at least ``fallback`` deep (0 < ``fallback`` <
-    ``r``; 0: not asked); 0 if at some φ no pair of runs crosses with its ends that far apart (the position may
-    still be that deep: the certificate is one-sided), or if the walk at ``fallback`` took more than
-    ``options.fallback_steps`` intervals; −1 if ``max_steps`` were not enough at ``r``. Where the walk at ``r``
-    fails it goes on at ``fallback`` from there: what is certified at ``r`` is certified at any smaller depth.
+def _near_interval(walk, moved, phi, first):
+    """(ahead, behind): the interval of φ about ``phi`` over which thick particles stay within their contact
+    distance under every translation shorter than the depth sought: the curves' distance d at ``phi`` is at most
+    ``walk.margin`` (the contact distance less that depth), and it grows by at most ρ per radian of turn (ρ the
+    largest distance of curve 2's points from its centre), so the interval reaches (margin − d)/ρ each way;
+    (0, 0) where d is larger."""
+    curves = walk.curves
+    if walk.margin <= 0.0:
+        return 0.0, 0.0
+    rho = 0.0
+    for k in range(curves.rout2.shape[0]):
+        rho = max(rho, curves.rout2[k])
+    d = clearance(curves.v1, curves.boxes1, curves.v2, walk.tx, walk.ty, phi, walk.margin, moved.w, moved.boxes2)
+    if d >= walk.margin:
+        return 0.0, 0.0
+    reach = (walk.margin - d) / rho
+    return reach, (reach if first else 0.0)
+
+
+@njit(**JIT)
+def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
+    """(status, φ): status 1 if position (tx, ty) is certified deep in the excluded set (module notes) within
+    ``max_steps`` intervals of φ: ``depth`` (r, margin), at every φ the curves stay crossed under translations
+    shorter than r or (thick particles) come no farther apart than the margin (:func:`_near_interval`); 2 if
+    not, but at least ``fallback`` deep (0 < ``fallback`` < r; 0: not asked); 0 if at some φ no pair of runs
+    crosses with its ends that far apart (the position may still be that deep: the certificate is one-sided),
+    or if the walk at ``fallback`` took more than
+    ``options.fallback_steps`` intervals; −1 if ``max_steps`` were not enough at r. Where the walk at r fails
+    it goes on at ``fallback`` from there: what is certified at r is certified at any smaller depth.
     ``prepared_curves``: :func:`prepared`. From the second interval on a pair r apart is also lengthened
     (``options.lengthen``), until once that gives no longer interval; ``options.tips``: where no pair of runs is
     r apart, try two end points. The walk begins at φ = ``start`` (radians): where the position is least deep
     there (an orientation allowed nearby), a walk that fails fails at once. φ (radians): where the walk stopped,
     the orientation at which a walk that fails failed (nearby positions at a like depth fail there too)."""
     roots = np.empty(16)
-    plain, moved = _walk(prepared_curves[0], tx, ty, r, roots, options)
-    halved, moved_h = _walk(prepared_curves[1], tx, ty, r, roots, options)
+    plain, moved = _walk(prepared_curves[0], tx, ty, depth, roots, options)
+    halved, moved_h = _walk(prepared_curves[1], tx, ty, depth, roots, options)
     phi = start
     first, first_behind = True, 0.0
     proved, at_fallback = 1, 0
@@ -160,6 +187,10 @@ def cover(prepared_curves, tx, ty, r, fallback, max_steps, start, options):
         ahead, behind, found, longer = _interval_at((plain, halved), (moved, moved_h), got, phi, first, lengthen)
         if lengthen and got[5] >= plain.r and not longer:
             lengthen = False
+        if proved == 1 and plain.margin > 0.0:  # thick particles: near enough, crossed or not
+            a, b = _near_interval(plain, moved, phi, first)
+            if a + b > ahead + behind:
+                ahead, behind, found = a, b, True
         if not found and options.tips and proved == 1:  # two end points, each through or near a side of the other
             ahead, behind = two_tips(plain, moved, got[0], phi, first)
             found = ahead > 0.0
@@ -183,10 +214,10 @@ def cover(prepared_curves, tx, ty, r, fallback, max_steps, start, options):
 
 @njit(**JIT, parallel=True)
 def cover_at(prepared_curves, positions, fallback, options, out, stops):
-    """``out[p]``, ``stops[p]``: :func:`cover` of position p at depth ``rs[p]`` (else ``fallback``) with
-    ``max_steps[p]`` intervals, its walk begun at φ = ``starts[p]``; ``positions``: (xs, ys, rs, max_steps,
-    starts). Each position is written by one thread."""
-    xs, ys, rs, max_steps, starts = positions
+    """``out[p]``, ``stops[p]``: :func:`cover` of position p at depth (``rs[p]``, ``margins[p]``) (else
+    ``fallback``) with ``max_steps[p]`` intervals, its walk begun at φ = ``starts[p]``; ``positions``: (xs, ys,
+    rs, margins, max_steps, starts). Each position is written by one thread."""
+    xs, ys, rs, margins, max_steps, starts = positions
     v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = prepared_curves[0]
     h1, hboxes1, h2, hframe_boxes2, hrin2, hrout2, hp1, hp2 = prepared_curves[1]
     for p in prange(xs.shape[0]):
@@ -195,7 +226,8 @@ def cover_at(prepared_curves, positions, fallback, options, out, stops):
             Curves(v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2),
             Curves(h1, hboxes1, h2, hframe_boxes2, hrin2, hrout2, hp1, hp2),
         )
-        out[p], stops[p] = cover(curves, xs[p], ys[p], rs[p], fallback, max_steps[p], starts[p], options)
+        depth = (rs[p], margins[p])
+        out[p], stops[p] = cover(curves, xs[p], ys[p], depth, fallback, max_steps[p], starts[p], options)
 
 
 def _stored(v):
@@ -229,20 +261,26 @@ def prepared(v1, v2):
     return _curves(v1, v2), _curves(_halved(v1), _halved(v2))
 
 
-def certified_deep(prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, options=OPTIONS, stops=None):
+def certified_deep(
+    prepared_curves, xs, ys, rs, max_steps, fallback=0.0, start=0.0, options=OPTIONS, stops=None, contact=0.0
+):
     """(p,) int8, :func:`cover` of each position (b) at depth ``rs`` (b), else ``fallback`` (b; 0: not asked),
     with ``max_steps`` intervals of φ, each walk begun at φ = ``start`` (radians; all broadcast);
     ``prepared_curves``: :func:`prepared`; ``options``: :data:`Options` (``OPTIONS._replace(tips=False)``: no
-    two end points). ``stops``: a (p,) float array to receive the orientation (radians) at which each walk
-    stopped (where it failed, for one that failed), or None."""
+    two end points). ``contact`` (b): the particles' contact distance (thick particles overlap where their
+    curves come within it): the curves must then stay crossed to ``rs`` − ``contact`` only (at least
+    LEAST_DEPTH), or come no farther apart than ``contact`` − ``rs``. ``stops``: a (p,) float array to receive
+    the orientation (radians) at which each walk stopped (where it failed, for one that failed), or None."""
     xs = np.ascontiguousarray(xs, dtype=float)
     ys = np.ascontiguousarray(ys, dtype=float)
-    rs = np.ascontiguousarray(np.broadcast_to(np.asarray(rs, dtype=float), xs.shape))
+    depths = np.broadcast_to(np.asarray(rs, dtype=float), xs.shape)
+    rs = np.ascontiguousarray(np.maximum(depths - contact, LEAST_DEPTH))
+    margins = np.ascontiguousarray(contact - depths)
     steps = np.ascontiguousarray(np.broadcast_to(np.asarray(max_steps, dtype=np.int64), xs.shape))
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
     where = np.empty(xs.shape[0]) if stops is None else stops
     options = Options(*(int(v) for v in options[:3]), float(options[3]), bool(options[4]), bool(options[5]))
     with small_chunks():
-        cover_at(prepared_curves, (xs, ys, rs, steps, starts), float(fallback), options, out, where)
+        cover_at(prepared_curves, (xs, ys, rs, margins, steps, starts), float(fallback), options, out, where)
     return out

@@ -23,8 +23,10 @@ Structured arguments (named tuples, read by name inside the kernels):
   room ``cross`` for the crossing segment pairs;
 * :data:`Walk` — one position's walk around φ: ``curves``, ``near1`` and
   ``far1`` (curve 1's segments' distances from t), ``tx``, ``ty``, the depth
-  ``r`` (b), scratch ``roots`` and the walk's ``options``
-  (:data:`sesp.kernels.depth.Options`).
+  ``r`` (b) at which the curves must stay crossed, the ``margin`` (b) by which
+  thick particles may come apart and still overlap (contact distance less the
+  particles' depth sought; ≤ 0: none), scratch ``roots`` and the walk's
+  ``options`` (:data:`sesp.kernels.depth.Options`).
 """
 
 import math
@@ -38,7 +40,7 @@ from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, sinusoid_
 
 Curves = namedtuple("Curves", "v1 boxes1 v2 frame_boxes2 rin2 rout2 p1 p2")
 Moved = namedtuple("Moved", "w boxes2 cross")
-Walk = namedtuple("Walk", "curves near1 far1 tx ty r roots options")
+Walk = namedtuple("Walk", "curves near1 far1 tx ty r margin roots options")
 
 
 @njit(**JIT)
