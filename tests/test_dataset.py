@@ -121,18 +121,39 @@ def test_every_variable_and_coordinate_is_labelled_and_the_file_is_cf(files, kin
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_units_read_by_cf_tools_as_what_they_are(files, kind):
-    """cf-xarray's UDUNITS registry (pint) reads every variable's units; lengths and areas, reduced by b, are
-    pure numbers (units "1", with ``in_units_of``), never "b", which UDUNITS reads as the barn."""
-    from cf_xarray.units import units as udunits
+    """pint-xarray, with cf-xarray's UDUNITS registry, quantifies every variable of every kind of file: lengths,
+    areas and densities reduced by b are pure numbers (units "1", the power of b in their long_name, the unit b
+    named once in the global attribute length_unit), angles radians; no other attribute holds a unit, and each
+    error bar is named by its value's ancillary_variables."""
+    import cf_xarray.units  # noqa: F401  (pint reads CF units)
+    import pint_xarray  # noqa: F401
+    import xarray as xr
 
-    ds = load(files[kind])
-    checked = 0
+    ds = xr.open_dataset(files[kind])
+    quantified = ds.pint.quantify()  # raises where a unit cannot be read
+    assert ds.attrs["length_unit"].startswith("b, the semi-axis")
+    reduced = 0
     for name, var in {**ds.data_vars, **ds.coords}.items():
-        if "units" not in var.attrs:
-            continue
-        unit = udunits.Unit(var.attrs["units"])  # raises where UDUNITS cannot read it
-        if "in_units_of" in var.attrs:
-            assert unit.dimensionless and var.attrs["in_units_of"] in ("b", "b^2", "b^-2"), (kind, name)
-            checked += 1
-        assert var.attrs["units"] not in ("b", "b^2", "b^-2"), f"{kind}: {name} in barns"
-    assert checked > 0, f"{kind}: no length or area found"
+        assert not {"in_units_of", "resolution_units"} & set(var.attrs), f"{kind}: {name}"
+        if var.attrs.get("long_name", "").endswith((", b", ", b²", ", b⁻²", ", b⁴")):
+            assert quantified[name].pint.units.dimensionless, f"{kind}: {name}"
+            reduced += 1
+        if f"{name}_error" in ds.data_vars:
+            assert var.attrs["ancillary_variables"] == f"{name}_error", f"{kind}: {name}"
+    assert reduced > 0, f"{kind}: no length, area or density found"
+    if "phi" in ds.coords:
+        assert str(quantified.phi.pint.units) == "radian"
+
+
+def test_b3_and_b2_carry_their_powers_of_b_when_quantified():
+    import cf_xarray.units  # noqa: F401
+    import pint_xarray  # noqa: F401
+
+    from sesp.virial import third_virial
+
+    found = third_virial(SeSP(n=2, opening=math.pi / 2), nodes=33, nphi=4, shifts=1)
+    quantified = found.pint.quantify()
+    assert quantified.third_virial_coefficient.pint.units.dimensionless
+    assert found.third_virial_coefficient.attrs["long_name"].endswith(", b⁴")
+    assert found.second_virial_coefficient.attrs["long_name"].endswith(", b²")
+    assert found.third_virial_coefficient.attrs["ancillary_variables"] == "third_virial_coefficient_error"

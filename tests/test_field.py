@@ -78,7 +78,7 @@ def test_dataset_layout_and_attributes():
     assert ds.sizes == {"phi": 4, "y": 18, "x": 16, "particle_vertex": 13, "other_vertex": 13, "xy": 2}
     np.testing.assert_array_equal(ds.particle_vertices.values, SeSP(n=2, opening=1.0).polyline(12).vertices)
     assert not any(key.endswith("_vertices") for key in ds.attrs)  # variables, not 13 x 2 attributes
-    assert ds.x.attrs["in_units_of"] == "b" and ds.x.attrs["units"] == "1" and ds.phi.attrs["units"] == "rad"
+    assert ds.x.attrs["long_name"].endswith(", b") and ds.x.attrs["units"] == "1" and ds.phi.attrs["units"] == "rad"
     np.testing.assert_allclose(ds.phi.values, 2 * np.pi * np.arange(4) / 4)
     for key in (
         "particle_n",

@@ -111,7 +111,7 @@ def test_shifted_lattices_meet_the_closed_convex_formula(n):
     exact = convex_excluded_area(particle.polyline(128))
     shifted = shifted_excluded_area(particle, Grid(128, nphi=64), segments=128)
     assert float(shifted.mean()) == pytest.approx(exact, rel=5e-4)
-    assert shifted.attrs["in_units_of"] == "b^2" and shifted.attrs["error_estimate"] > 0
+    assert shifted.attrs["long_name"].endswith(", b²") and shifted.attrs["error_estimate"] > 0
 
 
 def test_shifted_lattices_remove_the_bias_of_the_fixed_lattice():

@@ -24,7 +24,7 @@ from .pair import as_pair
 from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
-from .units import AREA, DENSITY
+from .units import link_errors, quantity
 from .virial import third_virial
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
@@ -175,7 +175,7 @@ def analyze(
         ds[name] = value
     if "entangled_area" in ds:
         ds["mean_entangled_area"] = ds.entangled_area.mean("phi").assign_attrs(
-            **AREA, long_name="orientation-averaged entangled area A_ent"
+            **quantity(2, "orientation-averaged entangled area A_ent")
         )
     if "topology" in keep:
         _add_components(ds, pair, resolution)
@@ -187,7 +187,7 @@ def analyze(
             ds[name] = found[name]
     if "classes" not in keep:
         ds = ds.drop_vars([v for v in PER_POSITION if v in ds])
-    return ds
+    return link_errors(ds)
 
 
 def _lattice_pass(pair, grid, keep, engine, progress) -> xr.Dataset:
@@ -254,7 +254,7 @@ def _add_normalized(ds, pair, rtol):
         units="1", long_name="error bar of the orientation-averaged A_ex / A_ex of the closed shape"
     )
     ds["closed_excluded_area"] = xr.DataArray(
-        reference, attrs={**AREA, "long_name": "orientation-averaged A_ex of the closed shape"}
+        reference, attrs=quantity(2, "orientation-averaged A_ex of the closed shape")
     )
 
 
@@ -269,10 +269,10 @@ def _add_phases(ds, best, pair):
         parsons_lee = first_transition(best, particle_area=area)
     else:  # a thin particle's Parsons–Lee densities are its second-virial ones
         parsons_lee = found if area == 0 else found.map(lambda v: v * math.nan)
-    ds["particle_area"] = xr.DataArray(area, attrs={**AREA, "long_name": "area a the thick particle covers"})
+    ds["particle_area"] = xr.DataArray(area, attrs=quantity(2, "area a the thick particle covers"))
     for name, what in (("transition", "isotropic"), ("ordered", "ordered")):
         ds[f"parsons_lee_{name}_density"] = parsons_lee[f"{name}_density"].assign_attrs(
-            **DENSITY, long_name=f"{what} density at the first transition, Parsons-Lee"
+            **quantity(-2, f"{what} density at the first transition, Parsons-Lee")
         )
 
 

@@ -51,7 +51,7 @@ from ._certify.settings import Settings
 from .checks import check_resolution
 from .pair import as_pair
 from .shape import DEFAULT_SEGMENTS
-from .units import AREA, LENGTH
+from .units import dimensionless, quantity
 
 __all__ = [
     "RESOLUTION", "RIM", "BASE", "Settings", "Certified", "CertifiedComponent", "certified_components",
@@ -191,31 +191,31 @@ class Certified:
         """The count's bracket, rim and the ``kept`` deepest components (NaN-padded) as labelled variables: the
         form :func:`sesp.analyze` and sweeps store, from which :meth:`from_dataset` rebuilds the count (without
         its cells)."""
-        attrs = {"units": "1", "resolution": self.resolution, "resolution_units": "b"}
-        said = "excluded components at the resolution, at least resolution + rim deep"
+        attrs = {"units": "1", "resolution": self.resolution}  # the resolution in b
+        said = f"excluded components at the resolution ({self.resolution:g} b), at least resolution + rim deep"
         ds = xr.Dataset()
         ds["excluded_components"] = xr.DataArray(self.low, attrs={**attrs, "long_name": f"{said} (bracket's low end)"})
         ds["excluded_components_high"] = xr.DataArray(
             self.high, attrs={**attrs, "long_name": f"{said} (bracket's high end)"}
         )
         ds["component_rim"] = xr.DataArray(
-            self.rim, attrs={**LENGTH, "long_name": "rim: a component is counted from resolution + rim deep"}
+            self.rim, attrs=quantity(1, "rim: a component is counted from resolution + rim deep")
         )
-        ds["component_floor"] = xr.DataArray(self.floor, attrs={**LENGTH, "long_name": "smallest cell side"})
+        ds["component_floor"] = xr.DataArray(self.floor, attrs=quantity(1, "smallest cell side"))
         listed = self.components[:kept]
         for name, unit, what, long_name in (
-            ("component_depth", LENGTH, "depth", "certified depth (inscribed radius, lower bound) of each component"),
-            ("component_top", LENGTH, "top", "upper bound on the depth of each component"),
-            ("component_area", AREA, "area", "certified area (lower bound) of each excluded component"),
-            ("component_area_bound", AREA, "area_bound", "upper bound on the area of each excluded component"),
-            ("component_parts", {"units": "1"}, "parts", "certified parts that may each be a counted component"),
-            ("component_departure", LENGTH, "departure", "the polylines' departure from the smooth curves"),
+            ("component_depth", 1, "depth", "certified depth (inscribed radius, lower bound) of each component"),
+            ("component_top", 1, "top", "upper bound on the depth of each component"),
+            ("component_area", 2, "area", "certified area (lower bound) of each excluded component"),
+            ("component_area_bound", 2, "area_bound", "upper bound on the area of each excluded component"),
+            ("component_parts", 0, "parts", "certified parts that may each be a counted component"),
+            ("component_departure", 1, "departure", "the polylines' departure from the smooth curves"),
         ):
             values = np.full(kept, np.nan)
             values[: len(listed)] = [getattr(c, what) for c in listed]
-            ds[name] = xr.DataArray(
-                values, dims="component", attrs={**unit, "long_name": f"{long_name}, deepest first"}
-            )
+            said = f"{long_name}, deepest first"
+            attrs = quantity(unit, said) if unit else dimensionless(said)
+            ds[name] = xr.DataArray(values, dims="component", attrs=attrs)
         for name, dim, what, long_name in (
             ("component_box", "edge", "box", "box of each component: xmin, xmax, ymin, ymax"),
             ("component_point", "xy", "point", "where each component's depth is proved: x, y"),
@@ -223,7 +223,7 @@ class Certified:
             values = np.full((kept, 4 if dim == "edge" else 2), np.nan)
             if listed:
                 values[: len(listed)] = [getattr(c, what) for c in listed]
-            ds[name] = xr.DataArray(values, dims=("component", dim), attrs={**LENGTH, "long_name": long_name})
+            ds[name] = xr.DataArray(values, dims=("component", dim), attrs=quantity(1, long_name))
         return ds
 
     @classmethod

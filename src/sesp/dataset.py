@@ -36,7 +36,7 @@ from . import version
 from .grid import Grid
 from .pair import Pair
 from .shape import Polyline, SeSP
-from .units import LENGTH
+from .units import LENGTH_UNIT, quantity
 
 __all__ = [
     "FORMATS",
@@ -121,6 +121,7 @@ def base_attrs(kind: str) -> dict:
     return {
         "sesp_format": kind,
         "sesp_format_version": FORMAT_VERSION,
+        "length_unit": LENGTH_UNIT,
         "sesp_version": version.__version__,
         "Conventions": "CF-1.10",
         "title": TITLES[kind],
@@ -146,8 +147,10 @@ def parameter_attrs(name: str) -> dict:
     """``long_name`` and ``units`` of a sweep parameter coordinate (``other_`` names: particle 2's)."""
     base = name.removeprefix("other_")
     long_name, units = PARAMETER_ATTRS.get(base, (base, "1"))
-    unit_attrs = LENGTH if units == "b" else {"units": units}
-    return {"long_name": long_name if base == name else f"{long_name} of particle 2", **unit_attrs}
+    long_name = long_name if base == name else f"{long_name} of particle 2"
+    if units == "b":
+        return quantity(1, long_name)
+    return {"long_name": long_name, "units": units}
 
 
 # --- particles and pairs ---------------------------------------------------------------
@@ -171,10 +174,7 @@ def pair_variables(pair: Pair) -> dict:
         f"{prefix}_vertices": (
             (f"{prefix}_vertex", "xy"),
             curve.vertices.copy(),
-            {
-                "long_name": f"vertices of {'particle 1' if prefix == 'particle' else 'particle 2'}'s polyline",
-                **LENGTH,
-            },
+            quantity(1, f"vertices of {'particle 1' if prefix == 'particle' else 'particle 2'}'s polyline"),
         )  # fmt: skip
         for prefix, curve in (("particle", pair.curve1), ("other", pair.curve2))
     }
@@ -244,8 +244,8 @@ def coords(grid: Grid, dims=FIELD_DIMS) -> dict:
     """Labelled coordinates of ``grid`` along ``dims``."""
     every = {
         "phi": ("phi", grid.phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
-        "y": ("y", grid.y, {**LENGTH, "long_name": "y of particle 2's centre"}),
-        "x": ("x", grid.x, {**LENGTH, "long_name": "x of particle 2's centre"}),
+        "y": ("y", grid.y, quantity(1, "y of particle 2's centre")),
+        "x": ("x", grid.x, quantity(1, "x of particle 2's centre")),
     }
     return {d: every[d] for d in dims}
 

@@ -24,7 +24,7 @@ from .pair import Pair, as_pair
 from .progress import progress_bar
 from .reductions import StoredField
 from .shape import DEFAULT_SEGMENTS
-from .units import AREA, LENGTH
+from .units import link_errors, quantity
 
 __all__ = [
     "TruncatedBoxWarning",
@@ -324,20 +324,21 @@ def monte_carlo(
     overlap_ = overlap_ > 0
     p = overlap_.mean()
     attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
-    area = dict(AREA)
-    return xr.Dataset(
-        {
-            **pair_variables(pair),
-            "x": ("sample", x, {**LENGTH, "long_name": "x of particle 2's centre"}),
-            "y": ("sample", y, {**LENGTH, "long_name": "y of particle 2's centre"}),
-            "phi": ("sample", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
-            "overlap": ("sample", overlap_, {"units": "1", "long_name": "the particles overlap"}),
-            "excluded_area": ((), p * side**2, {**area, "long_name": "excluded area A_ex"}),
-            "excluded_area_error": (
-                (),
-                side**2 * math.sqrt(p * (1 - p) / samples),
-                {**area, "long_name": "standard error of A_ex"},
-            ),
-        },
-        attrs=attrs,
+    return link_errors(
+        xr.Dataset(
+            {
+                **pair_variables(pair),
+                "x": ("sample", x, quantity(1, "x of particle 2's centre")),
+                "y": ("sample", y, quantity(1, "y of particle 2's centre")),
+                "phi": ("sample", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"}),
+                "overlap": ("sample", overlap_, {"units": "1", "long_name": "the particles overlap"}),
+                "excluded_area": ((), p * side**2, quantity(2, "excluded area A_ex")),
+                "excluded_area_error": (
+                    (),
+                    side**2 * math.sqrt(p * (1 - p) / samples),
+                    quantity(2, "standard error of A_ex"),
+                ),
+            },
+            attrs=attrs,
+        )
     )

@@ -22,7 +22,7 @@ from .kernels import overlap, scanline
 from .pair import Pair, as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
-from .units import AREA, LENGTH
+from .units import link_errors, quantity
 
 __all__ = [
     "excluded_area",
@@ -39,8 +39,6 @@ __all__ = [
     "kinematic_integral",
     "excluded_perimeter",
 ]
-
-_AREA = dict(AREA)
 
 
 def _excluded_states(allowed, axis=None):
@@ -87,7 +85,7 @@ def lattice_excluded_area(ds: xr.Dataset, *, by: str | None = None):
         coords={"phi": ds.phi},
         dims="phi",
         name="excluded_area",
-        attrs={**_AREA, "long_name": "excluded area at fixed orientation A_ex(φ)"},
+        attrs=quantity(2, "excluded area at fixed orientation A_ex(φ)"),
     )
 
 
@@ -176,8 +174,7 @@ def shifted_excluded_area(particle, grid: Grid | None = None, *, other=None, seg
     per_phi = counts * (grid.dx * grid.dy)
     error = abs(per_phi[0::2].mean() - per_phi[1::2].mean()) / 2 if grid.nphi > 1 else math.nan
     attrs = {
-        **_AREA,
-        "long_name": "excluded area at fixed orientation A_ex(φ), lattice shifted per φ",
+        **quantity(2, "excluded area at fixed orientation A_ex(φ), lattice shifted per φ"),
         "error_estimate": error,
         **base_attrs("sesp.scan"),
         **pair_attrs(pair),
@@ -315,10 +312,10 @@ def _area_dataset(phi, area, error, mean_error, attrs) -> xr.Dataset:
     """A_ex(φ) with error bars, and their orientation average with its error bar ``mean_error``."""
     return xr.Dataset(
         {
-            "excluded_area": ("phi", area, {**_AREA, "long_name": "excluded area at fixed orientation A_ex(φ)"}),
-            "excluded_area_error": ("phi", error, {**_AREA, "long_name": "error estimate of A_ex(φ)"}),
-            "mean_excluded_area": ((), area.mean(), {**_AREA, "long_name": "orientation-averaged A_ex"}),
-            "mean_excluded_area_error": ((), mean_error, {**_AREA, "long_name": "its error estimate"}),
+            "excluded_area": ("phi", area, quantity(2, "excluded area at fixed orientation A_ex(φ)")),
+            "excluded_area_error": ("phi", error, quantity(2, "error estimate of A_ex(φ)")),
+            "mean_excluded_area": ((), area.mean(), quantity(2, "orientation-averaged A_ex")),
+            "mean_excluded_area_error": ((), mean_error, quantity(2, "its error estimate")),
         },
         coords={"phi": ("phi", phi, {"units": "rad", "long_name": "orientation of particle 2 (φ)"})},
         attrs=attrs,
@@ -501,7 +498,7 @@ def excluded_area(
                 break
             settings[step] *= 2
     ds.attrs.update(segments=settings["segments"], rtol=np.nan if rtol is None else rtol, converged=int(converged))
-    return ds
+    return link_errors(ds)
 
 
 def convex_excluded_area(curve: Polyline, other: Polyline | None = None) -> float:
@@ -630,5 +627,5 @@ def excluded_perimeter(particle, grid: Grid | None = None, *, other=None, segmen
     areas = [shifted_excluded_area(pair.thickened(extra), grid) for extra in (0.0, step, 2 * step)]
     slope = (4 * areas[1] - areas[2] - 3 * areas[0]) / (2 * step)
     return slope.rename("excluded_perimeter").assign_attrs(
-        **LENGTH, long_name="perimeter of the excluded set P_ex(φ) = dA_ex/dD", step=step
+        **quantity(1, "perimeter of the excluded set P_ex(φ) = dA_ex/dD"), step=step
     )

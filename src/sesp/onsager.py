@@ -55,7 +55,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .units import AREA, DENSITY
+from .units import link_errors, quantity
 
 __all__ = [
     "orientational_spectrum",
@@ -198,13 +198,13 @@ def orientational_spectrum(
                 propagated = np.sqrt((xr.DataArray(per_phi) ** 2 * basis**2).sum("phi")) * (2.0 / len(phi))
                 if _mirrored(excluded_area):  # A(−φ) is a copy of A(φ): half as many independent errors
                     propagated = propagated * math.sqrt(2.0)
-        out[name] = coeff.assign_attrs(**AREA, long_name=f"{'cosine' if name == 'a' else 'sine'} coefficient")
+        out[name] = coeff.assign_attrs(**quantity(2, f"{'cosine' if name == 'a' else 'sine'} coefficient"))
         out[f"{name}_error"] = np.sqrt(quadrature**2 + propagated**2).assign_attrs(
-            **AREA, long_name=f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)"
+            **quantity(2, f"error bar of {name}_k (quadrature in φ and propagated A_ex(φ) errors)")
         )
     ds = xr.Dataset(out)
     ds["k"].attrs.update(long_name="order k of the Fourier mode cos kφ", units="1")
-    return ds
+    return link_errors(ds)
 
 
 def second_virial(excluded_area) -> xr.DataArray:
@@ -218,7 +218,7 @@ def second_virial(excluded_area) -> xr.DataArray:
     area = _area(excluded_area)
     _check_phi(area)
     b2 = (_mean_area(excluded_area) / 2).rename("second_virial_coefficient")
-    b2 = b2.assign_attrs(**AREA, long_name="second virial coefficient B2")
+    b2 = b2.assign_attrs(**quantity(2, "second virial coefficient B2"))
     if _has(excluded_area, "mean_excluded_area_error"):
         b2.attrs["error"] = float(excluded_area.mean_excluded_area_error.max()) / 2
     return b2
@@ -250,8 +250,8 @@ def mixture_second_virial(areas, fractions) -> xr.Dataset:
     out = xr.Dataset(
         {
             "second_virial_coefficient": ((), float((weights * matrix.values).sum()),
-                                          {**AREA, "long_name": "second virial coefficient B2 of the mixture"}),
-            "second_virial_matrix": matrix.assign_attrs(**AREA, long_name="second virial coefficients B2_ij"),
+                                          quantity(2, "second virial coefficient B2 of the mixture")),
+            "second_virial_matrix": matrix.assign_attrs(**quantity(2, "second virial coefficients B2_ij")),
             "fraction": ("species_i", x, {"units": "1", "long_name": "mole fraction of each species"}),
         }
     )  # fmt: skip
@@ -260,14 +260,14 @@ def mixture_second_virial(areas, fractions) -> xr.Dataset:
         out["second_virial_coefficient_error"] = (
             (),
             float((weights * errors).sum()),
-            {**AREA, "long_name": "error bar of B2"},
+            quantity(2, "error bar of B2"),
         )
         out["second_virial_matrix_error"] = (
             ("species_i", "species_j"),
             errors,
-            {**AREA, "long_name": "error bars of B2_ij"},
+            quantity(2, "error bars of B2_ij"),
         )
-    return out
+    return link_errors(out)
 
 
 def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correlated: bool = False) -> xr.Dataset:
@@ -301,8 +301,8 @@ def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correl
         {
             "a": a,
             "a_error": a_error,
-            "density": density.assign_attrs(**DENSITY, long_name="isotropic instability density rho*_k"),
-            "density_error": density_error.assign_attrs(**DENSITY, long_name="error bar of rho*_k"),
+            "density": density.assign_attrs(**quantity(-2, "isotropic instability density rho*_k")),
+            "density_error": density_error.assign_attrs(**quantity(-2, "error bar of rho*_k")),
             "reduced_density": (density * mean).assign_attrs(units="1", long_name="rho*_k <A_ex>"),
             "reduced_density_error": (density_error * mean).assign_attrs(
                 units="1", long_name="error bar of rho*_k <A_ex>"
@@ -314,7 +314,7 @@ def instabilities(excluded_area, orders=(1, 2, 3, 4, 6), *, error="auto", correl
     ds["leading_order"] = leading.drop_vars("order", errors="ignore").assign_attrs(
         long_name="k of the order that goes unstable first (0: none)", units="1"
     )
-    return ds
+    return link_errors(ds)
 
 
 def entangled_neighbours(entangled_area: xr.DataArray, density: float) -> xr.DataArray:
@@ -337,7 +337,7 @@ def contact_density(excluded_area, contacts: float) -> xr.DataArray:
     z = float(contacts)
     if not (math.isfinite(z) and z > 0):
         raise ValueError(f"contacts must be a finite number > 0, got {contacts!r}")
-    return (z / _mean_area(excluded_area)).assign_attrs(**DENSITY, long_name=f"density of {z:g} mean contacts")
+    return (z / _mean_area(excluded_area)).assign_attrs(**quantity(-2, f"density of {z:g} mean contacts"))
 
 
 def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, error="auto", correlated=False) -> dict:
@@ -351,10 +351,10 @@ def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, 
     ``second_virial_coefficient_error``.
     """
     b2 = {"second_virial_coefficient": second_virial(excluded_area).drop_attrs()}
-    b2["second_virial_coefficient"].attrs.update(**AREA, long_name="second virial coefficient B2")
+    b2["second_virial_coefficient"].attrs.update(**quantity(2, "second virial coefficient B2"))
     if _has(excluded_area, "mean_excluded_area_error"):
         b2["second_virial_coefficient_error"] = (excluded_area.mean_excluded_area_error / 2).assign_attrs(
-            **AREA, long_name="error bar of B2"
+            **quantity(2, "error bar of B2")
         )
     excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     order = min(order, (excluded_area.sizes["phi"] - 1) // 2)
@@ -497,15 +497,17 @@ def onsager_solution(
 def _state_dataset(state: dict, phi) -> xr.Dataset:
     """A state of :func:`_state` as labelled variables."""
     k = np.arange(1, len(state["order"]) + 1)
-    return xr.Dataset(
-        {
-            "psi": ("phi", state["psi"], {"units": "1", "long_name": "orientational distribution psi (rad^-1)"}),
-            "order_parameter": ("k", state["order"], {"units": "1", "long_name": "<cos k phi>"}),
-            "free_energy": ((), state["free_energy"], {"units": "1", "long_name": "beta F / N"}),
-            "pressure": ((), state["pressure"], {**DENSITY, "long_name": "beta P"}),
-            "chemical_potential": ((), state["chemical_potential"], {"units": "1", "long_name": "beta mu"}),
-        },
-        coords={"phi": phi.values, "k": k},
+    return link_errors(
+        xr.Dataset(
+            {
+                "psi": ("phi", state["psi"], {"units": "rad-1", "long_name": "orientational distribution psi"}),
+                "order_parameter": ("k", state["order"], {"units": "1", "long_name": "<cos k phi>"}),
+                "free_energy": ((), state["free_energy"], {"units": "1", "long_name": "beta F / N"}),
+                "pressure": ((), state["pressure"], quantity(-2, "beta P")),
+                "chemical_potential": ((), state["chemical_potential"], {"units": "1", "long_name": "beta mu"}),
+            },
+            coords={"phi": phi.values, "k": k},
+        )
     )
 
 
@@ -606,19 +608,19 @@ def phase_behaviour(
     stable = np.array([0, *ks])[np.argmin(stack, axis=1)]
     low, high, continuous = (np.array(c) for c in zip(*kinds))
     bifurcation = np.asarray(parsons_lee_density(unstable.values, particle_area), dtype=float)
-    return xr.Dataset(
+    return link_errors(xr.Dataset(
         {
             "order_parameter": (("density", "order"), order_parameter, {"units": "1", "long_name": "<cos k phi>"}),
             "free_energy": (("density", "order"), free_energy, {"units": "1", "long_name": "beta F / N"}),
             "stable_order": ("density", stable, {"units": "1", "long_name": "k of the stable phase (0: isotropic)"}),
-            "bifurcation_density": ("order", bifurcation, {**DENSITY, "long_name": "rho*_k"}),
-            "coexistence_low": ("order", low, {**DENSITY, "long_name": "isotropic coexisting density"}),
-            "coexistence_high": ("order", high, {**DENSITY, "long_name": "ordered coexisting density"}),
+            "bifurcation_density": ("order", bifurcation, quantity(-2, "rho*_k")),
+            "coexistence_low": ("order", low, quantity(-2, "isotropic coexisting density")),
+            "coexistence_high": ("order", high, quantity(-2, "ordered coexisting density")),
             "continuous": ("order", continuous.astype(int),
                            {"units": "1", "long_name": "1 continuous, 0 first order, -1 not reached"}),
         },
-        coords={"density": ("density", densities, dict(DENSITY)), "order": ks},
-    )  # fmt: skip
+        coords={"density": ("density", densities, quantity(-2, "number density ρ")), "order": ks},
+    ))  # fmt: skip
 
 
 def _branch(values, k: int, onsager, densities, particle_area: float):
@@ -685,15 +687,15 @@ def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 
 
 def _transition_dataset(order: int, density: float, error: float, ordered: float, continuous: bool) -> xr.Dataset:
     said = "isotropic density at the first transition"
-    return xr.Dataset(
+    return link_errors(xr.Dataset(
         {
             "transition_order": ((), order, {"units": "1", "long_name": "k of the first order (0: none)"}),
-            "transition_density": ((), density, {**DENSITY, "long_name": said}),
-            "transition_density_error": ((), error, {**DENSITY, "long_name": f"error bar of the {said} (NaN: none)"}),
-            "ordered_density": ((), ordered, {**DENSITY, "long_name": "ordered density at the first transition"}),
+            "transition_density": ((), density, quantity(-2, said)),
+            "transition_density_error": ((), error, quantity(-2, f"error bar of the {said} (NaN: none)")),
+            "ordered_density": ((), ordered, quantity(-2, "ordered density at the first transition")),
             "continuous": ((), int(continuous), {"units": "1", "long_name": "1: continuous"}),
         }
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 # --- beyond the second virial: the Parsons–Lee rescaling ------------------------------------------------------

@@ -33,7 +33,7 @@ import numpy as np
 import xarray as xr
 
 from .certified import Certified
-from .units import LENGTH
+from .units import link_errors, quantity
 
 __all__ = ["Step", "steps_between", "lives", "end_estimate", "FIT_POINTS"]
 
@@ -193,13 +193,13 @@ def _lives_dataset(openings, counts, ids, joining, count) -> xr.Dataset:
             shift = 2 * float(np.max(departure[seen[life]]))
             ends[life] = end_estimate(deg[seen[life]], depth[life][seen[life]], shift)
     c0 = counts[openings[0]]
-    return xr.Dataset(
+    return link_errors(xr.Dataset(
         {
-            "depth": (("life", "opening"), depth, {**LENGTH, "long_name": "certified depth (lower bound)"}),
-            "top": (("life", "opening"), top, {**LENGTH, "long_name": "upper bound on the depth"}),
+            "depth": (("life", "opening"), depth, quantity(1, "certified depth (lower bound)")),
+            "top": (("life", "opening"), top, quantity(1, "upper bound on the depth")),
             "counted": (("life", "opening"), counted, {"long_name": "counted: at least resolution + rim deep"}),
             "bar": ("opening", [counts[o].resolution + counts[o].rim for o in openings],
-                    {**LENGTH, "long_name": "resolution + rim: the depth from which a component is counted"}),
+                    quantity(1, "resolution + rim: the depth from which a component is counted")),
             "count_low": ("opening", [counts[o].low for o in openings], {"units": "1"}),
             "count_high": ("opening", [counts[o].high for o in openings], {"units": "1"}),
             "began": ("life", began, {"units": "degree", "long_name": "first opening it is listed at"}),
@@ -211,7 +211,7 @@ def _lives_dataset(openings, counts, ids, joining, count) -> xr.Dataset:
         coords={"opening": ("opening", np.asarray(openings), {"units": "rad"}),
                 "opening_deg": ("opening", deg, {"units": "degree"}), "life": np.arange(count)},
         attrs={"resolution": c0.resolution},
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 def _departures(openings, counts) -> np.ndarray:

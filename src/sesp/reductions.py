@@ -27,7 +27,7 @@ import numpy as np
 import xarray as xr
 
 from .dataset import LONG_NAMES, coords_sha256, field_sha256
-from .units import AREA
+from .units import quantity
 
 __all__ = ["Reduction", "StoredField", "ExcludedAreaByPhi", "EntangledAreaByPhi", "FIELDS"]
 
@@ -96,7 +96,7 @@ class ExcludedAreaByPhi(Reduction):
         self.excluded[part.k0 : part.k1] = allowed[0].size - np.count_nonzero(allowed, axis=(1, 2))
 
     def finish(self):
-        attrs = {**AREA, "long_name": "excluded area at fixed orientation A_ex(φ)"}
+        attrs = quantity(2, "excluded area at fixed orientation A_ex(φ)")
         return {"excluded_area": (("phi",), self.excluded * self.cell, attrs)}
 
 
@@ -113,5 +113,5 @@ class EntangledAreaByPhi(Reduction):
         self.count[part.k0 : part.k1] = np.count_nonzero(part.entangled, axis=(1, 2))
 
     def finish(self):
-        attrs = {**AREA, "long_name": "entangled area at fixed orientation A_ent(φ)"}
+        attrs = quantity(2, "entangled area at fixed orientation A_ent(φ)")
         return {"entangled_area": (("phi",), self.count * self.cell, attrs)}

@@ -89,6 +89,7 @@ from .persistence import sweep_lives
 from .progress import progress_bar
 from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
+from .units import link_errors
 from .workers import start_pool, stop_pool
 
 __all__ = ["SweepSpec", "SweepPoint", "load_spec", "run", "collect", "compute_point", "KEEP"]
@@ -846,7 +847,7 @@ def collect(folder) -> xr.Dataset:
     collected = _collected_dataset(manifest, dims, arrays, first)
     if "component_depth" in collected and "opening" in collected.component_depth.dims:  # each component over Ψ
         collected = collected.merge(sweep_lives(collected))
-    return collected
+    return link_errors(collected)
 
 
 def _parameter_coords(name, dims, values) -> dict:

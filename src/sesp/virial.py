@@ -40,12 +40,11 @@ from .onsager import mixture_second_virial
 from .pair import as_pair
 from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
-from .units import AREA
+from .units import link_errors, quantity
 
 __all__ = ["second_virial", "third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
 
 ORIENTATIONS = ("free", "fixed")
-B4 = {"units": "1", "in_units_of": "b^4"}  # B₃ is a length to the fourth (see sesp.units)
 
 
 def _lattice(reach: float, nodes: int) -> np.ndarray:
@@ -194,17 +193,17 @@ def third_virial(
     error = lattice_error + phi_error
     ratio = b3 / b2**2
     ratio_error = ratio * (error / abs(b3) + 2 * b2_error / b2)
-    return xr.Dataset(
+    return link_errors(xr.Dataset(
         {
-            "third_virial_coefficient": ((), b3, {**B4, "long_name": "third virial coefficient B3"}),
-            "third_virial_coefficient_error": ((), error, {**B4, "long_name": "error bar of B3 (lattice + φ)"}),
-            "second_virial_coefficient": ((), b2, {**AREA, "long_name": "second virial coefficient B2"}),
+            "third_virial_coefficient": ((), b3, quantity(4, "third virial coefficient B3")),
+            "third_virial_coefficient_error": ((), error, quantity(4, "error bar of B3 (lattice + φ)")),
+            "second_virial_coefficient": ((), b2, quantity(2, "second virial coefficient B2")),
             "reduced_third_virial": ((), ratio, {"units": "1", "long_name": "B3 / B2^2"}),
             "reduced_third_virial_error": ((), ratio_error, {"units": "1", "long_name": "error bar of B3 / B2^2"}),
         },
         attrs={"nodes": len(xs), "spacing": float(xs[1] - xs[0]), "nphi": nphi, "orientations": orientations,
                "lattice_error": lattice_error, "phi_error": phi_error, "seconds": time.perf_counter() - t0},
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 def _checked(nodes, nphi, shifts, orientations, memory_limit) -> tuple:
@@ -338,10 +337,12 @@ def third_virial_monte_carlo(
     mean = total / samples
     error = math.sqrt(max(total2 / samples - mean**2, 0.0) / max(samples - 1, 1))
     scale = (2 * half2) ** 2 * (2 * half3) ** 2 / 3
-    return xr.Dataset(
-        {
-            "third_virial_coefficient": ((), mean * scale, {**B4, "long_name": "third virial coefficient B3"}),
-            "third_virial_coefficient_error": ((), error * scale, {**B4, "long_name": "standard error of B3"}),
-        },
-        attrs={"samples": samples, "seconds": time.perf_counter() - t0},
+    return link_errors(
+        xr.Dataset(
+            {
+                "third_virial_coefficient": ((), mean * scale, quantity(4, "third virial coefficient B3")),
+                "third_virial_coefficient_error": ((), error * scale, quantity(4, "standard error of B3")),
+            },
+            attrs={"samples": samples, "seconds": time.perf_counter() - t0},
+        )
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import signal
@@ -60,10 +61,11 @@ def stop_pool(pool, grace: float = 3.0, interrupt: bool = True):
     processes = list((getattr(pool, "_processes", None) or {}).values())
     try:
         for process in processes:
-            if process.is_alive() and interrupt:
-                os.kill(process.pid, signal.SIGINT)
-            elif process.is_alive():
-                process.kill()
+            with contextlib.suppress(ProcessLookupError):  # it may end between the test and the signal
+                if process.is_alive() and interrupt:
+                    os.kill(process.pid, signal.SIGINT)
+                elif process.is_alive():
+                    process.kill()
         pool.shutdown(wait=False, cancel_futures=True)
         deadline = time.monotonic() + grace
         for process in processes:
