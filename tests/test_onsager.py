@@ -11,11 +11,14 @@ from sesp.measures import convex_excluded_area, shifted_excluded_area
 from sesp.onsager import (
     contact_density,
     entangled_neighbours,
+    first_transition,
     instabilities,
     mixture_second_virial,
     onsager_solution,
     onsager_variables,
     orientational_spectrum,
+    parsons_lee_density,
+    phase_behaviour,
     second_virial,
 )
 
@@ -186,6 +189,8 @@ def test_onsager_takes_what_excluded_area_returns_and_carries_its_error_bars():
         (lambda: mixture_second_virial([[xr.DataArray(0.0)]], [1.5]), "fractions"),
         (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16).expand_dims(n=[1, 2]), 1.0), "alone"),
         (lambda: onsager_solution(_uniform(lambda p: 1 + 0 * p, 16), -1.0), "density"),
+        (lambda: phase_behaviour(_uniform(lambda p: 2 - np.cos(2 * p), 64), span=(2.0, 3.0)), "span"),
+        (lambda: phase_behaviour(_uniform(lambda p: 2 - np.cos(2 * p), 64), points=1), "points"),
     ],
 )
 def test_bad_onsager_inputs_name_what_is_wrong(call, word):
@@ -196,3 +201,29 @@ def test_bad_onsager_inputs_name_what_is_wrong(call, word):
 def test_too_few_orientations_give_b2_alone():
     found = onsager_variables(_uniform(lambda p: 2 + 0 * p, 2))
     assert set(found) == {"second_virial_coefficient"} and float(found["second_virial_coefficient"]) == 1.0
+
+
+def _with_one_nan(values):
+    values = values.copy()
+    values[5] = np.nan
+    return values
+
+
+@pytest.mark.parametrize(
+    "call",
+    [second_virial, instabilities, first_transition, phase_behaviour, orientational_spectrum,
+     lambda a: onsager_solution(a, 1.0), lambda a: contact_density(a, 4.0), lambda a: entangled_neighbours(a, 1.0),
+     lambda a: orientational_spectrum(a.fillna(1.0), error=a)],
+)  # fmt: skip
+def test_a_non_finite_excluded_area_is_refused_where_it_is(call):
+    """One NaN in A_ex(φ) is refused by every function that takes it, naming the φ where it is (not a NaN here
+    and a finite density there)."""
+    area = _uniform(lambda p: 2 - np.cos(2 * p), 64)
+    area = area.copy(data=_with_one_nan(area.values))
+    with pytest.raises(ValueError, match=r"must be finite .* the first at phi = 28.125°"):
+        call(area)
+
+
+def test_parsons_lee_refuses_non_finite_densities():
+    with pytest.raises(ValueError, match="density must be finite"):
+        parsons_lee_density([1.0, np.inf], 0.1)

@@ -169,6 +169,9 @@ def test_disk_full_leaves_no_file_taken_as_finished(tmp_path):
     _, err = proc.communicate(timeout=300)
     assert proc.returncode != 0
     assert b"Traceback" not in err and b"error" in err
+    assert len(err.decode().strip().splitlines()) == 1, err.decode()  # one clear line
+    leftovers = [*(tmp_path / "out").glob(".*.lock"), *(tmp_path / "out").glob(".*.tmp")]
+    assert not leftovers, leftovers  # a failed write leaves no lock and no temporary
     for p in _point_files(tmp_path / "out"):
         load(p)  # anything that was written in full is valid
     run(path, workers=1, progress=False)  # and a rerun completes the sweep

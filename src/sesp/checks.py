@@ -14,6 +14,7 @@ __all__ = [
     "check_range",
     "check_nonnegative",
     "check_positive",
+    "check_finite",
     "check_count",
     "check_segments",
     "check_opening",
@@ -23,13 +24,17 @@ __all__ = [
 ]
 
 
-def check_positive(name: str, value) -> float:
-    """A finite number > 0, as float."""
+def check_positive(name: str, value, unit: str = "") -> float:
+    """A finite number > 0, as float (``unit``, e.g. " (b^-2)", said after the range)."""
+    said = f"{name} must be a finite number > 0{unit}, got {value!r}"
     if isinstance(value, bool):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    value = float(value)
+        raise ValueError(said)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(said) from None
     if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        raise ValueError(said)
     return value
 
 
@@ -48,14 +53,33 @@ def check_range(name: str, value, low: float, high: float, unit: str = "") -> fl
     return value
 
 
-def check_nonnegative(name: str, value) -> float:
-    """A finite number >= 0, as float."""
+def check_nonnegative(name: str, value, unit: str = "") -> float:
+    """A finite number >= 0, as float (``unit`` said after the range)."""
+    said = f"{name} must be a finite number >= 0{unit}, got {value!r}"
     if isinstance(value, bool):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    value = float(value)
+        raise ValueError(said)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(said) from None
     if not math.isfinite(value) or value < 0:
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        raise ValueError(said)
     return value
+
+
+def check_finite(name: str, values, unit: str = "", at=None) -> np.ndarray:
+    """An array of finite numbers (no NaN, no inf), as float; ``at`` (a format and the values along the first
+    axis, e.g. ``("phi = {:.6g}°", degrees)``) says where the first non-finite value is."""
+    array = np.asarray(values, dtype=float)
+    bad = ~np.isfinite(array)
+    if bad.any():
+        where = ""
+        if at is not None:
+            first = np.argwhere(bad)[0]
+            where = ", the first at " + at[0].format(at[1][first[0]])
+        raise ValueError(f"{name} must be finite{unit} everywhere: {int(bad.sum())} of {array.size} values are "
+                         f"NaN or inf{where}")  # fmt: skip
+    return array
 
 
 def check_count(name: str, value, lo: int, hi: int, unit: str = "") -> int:

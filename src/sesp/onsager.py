@@ -55,6 +55,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from .checks import check_count, check_finite, check_nonnegative, check_positive
 from .units import link_errors, quantity
 
 __all__ = [
@@ -73,7 +74,13 @@ __all__ = [
     "particle_area",
     "parsons_lee_factor",
     "parsons_lee_density",
+    "NeverUnstable",
 ]
+
+
+class NeverUnstable(ValueError):
+    """The isotropic state is stable at every density (no a_k is significantly negative): no transition."""
+
 
 SIGNIFICANCE = 3.0  # a_k counts as negative below −SIGNIFICANCE error bars
 
@@ -116,7 +123,23 @@ def _check_phi(excluded_area: xr.DataArray) -> np.ndarray:
     nphi = len(phi)
     if nphi < 2 or not np.allclose(phi, 2 * np.pi * np.arange(nphi) / nphi, rtol=0, atol=1e-9):
         raise ValueError("phi must be the uniform grid 2πj/nphi, j = 0..nphi-1, with nphi >= 2")
+    check_finite("excluded_area", excluded_area.transpose("phi", ...).values, " (b²)", _at_phi(phi))
     return phi
+
+
+def _at_phi(phi):
+    return ("phi = {:.6g}°", np.degrees(phi))
+
+
+def _check_error(error, phi):
+    """A per-φ error (b²) as given: "auto", None, or numbers >= 0 and finite (one, or one per φ)."""
+    if error is None or (isinstance(error, str) and error == "auto"):
+        return error
+    values = error.transpose("phi", ...).values if isinstance(error, xr.DataArray) and "phi" in error.dims else error
+    array = check_finite("error", values, " (b²)", _at_phi(phi) if np.ndim(values) else None)
+    if np.any(array < 0):
+        raise ValueError(f"error must be >= 0 (b²) everywhere, got a minimum of {array.min()!r}")
+    return error
 
 
 def noise_estimate(excluded_area: xr.DataArray) -> xr.DataArray:
@@ -177,6 +200,7 @@ def orientational_spectrum(
     """
     excluded_area, error, correlated = _area_and_error(excluded_area, error, correlated)
     phi = _check_phi(excluded_area)
+    error = _check_error(error, phi)
     if isinstance(order, bool) or int(order) != order or not 0 <= order < len(phi) / 2:
         raise ValueError(f"order must be an integer in [0, nphi/2) = [0, {len(phi) / 2:g}), got {order!r}")
     order = int(order)
@@ -324,9 +348,7 @@ def entangled_neighbours(entangled_area: xr.DataArray, density: float) -> xr.Dat
     each φ (:func:`sesp.analyze` with keep "classes" stores it).
     """
     _check_phi(entangled_area)
-    rho = float(density)
-    if not (math.isfinite(rho) and rho >= 0):
-        raise ValueError(f"density must be a finite number >= 0 (b^-2), got {density!r}")
+    rho = check_nonnegative("density", density, " (b^-2)")
     return (rho * entangled_area.mean("phi")).assign_attrs(units="1", long_name="mean entangled neighbours z")
 
 
@@ -334,9 +356,7 @@ def contact_density(excluded_area, contacts: float) -> xr.DataArray:
     """The density (b⁻²) at which the random-contact estimate ρ ⟨A_ex⟩ reaches ``contacts`` neighbours
     (⟨A_ex⟩ as for :func:`second_virial`)."""
     _check_phi(_area(excluded_area))
-    z = float(contacts)
-    if not (math.isfinite(z) and z > 0):
-        raise ValueError(f"contacts must be a finite number > 0, got {contacts!r}")
+    z = check_positive("contacts", contacts)
     return (z / _mean_area(excluded_area)).assign_attrs(**quantity(-2, f"density of {z:g} mean contacts"))
 
 
@@ -482,9 +502,9 @@ def onsager_solution(
     _check_phi(area)
     if area.ndim != 1:
         raise ValueError(f"excluded_area must be A_ex(φ) alone (dims ('phi',)), got dims {area.dims}")
-    density = float(density)
-    if not (math.isfinite(density) and density > 0):
-        raise ValueError(f"density must be a finite number > 0 (b^-2), got {density!r}")
+    density = check_positive("density", density, " (b^-2)")
+    strength = check_nonnegative("strength", strength)
+    order = check_count("order", order, 1, area.sizes["phi"] // 2, " (the fold of the seed)")
     values = area.values.astype(float)
     dphi = 2 * np.pi / len(values)
     phi = np.arange(len(values)) * dphi
@@ -585,12 +605,17 @@ def phase_behaviour(
     """
     area = _area(excluded_area)
     _check_phi(area)
+    points = check_count("points", points, 3, 100_000, " densities")
+    nphi = check_count("nphi", nphi, 8, 1 << 16, " orientations")
+    span = tuple(check_positive("span", v, " (times the first instability's density)") for v in span)
+    if len(span) != 2 or not span[0] < 1 < span[1]:
+        raise ValueError(f"span must be two factors low < 1 < high of the first instability's density, got {span}")
     area = area.isel(phi=slice(0, None, _coarser(area.sizes["phi"], nphi)))
     # a k-fold branch is kept k-fold symmetric by averaging over turns by 2π/k: orders the grid has turns for
     found = instabilities(area, [k for k in orders if k < area.sizes["phi"] / 2 and area.sizes["phi"] % k == 0])
     unstable = found.density.dropna("order")
     if unstable.sizes["order"] == 0:
-        raise ValueError("the isotropic state never becomes unstable to these orders: no transition to follow")
+        raise NeverUnstable("the isotropic state never becomes unstable to these orders: no transition to follow")
     values = area.values.astype(float)
     first = float(unstable.min())
     onsager = np.linspace(span[0] * first, span[1] * first, int(points))  # where the branches are solved
@@ -669,9 +694,10 @@ def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 
         coexisting density; equal to ``transition_density`` when continuous) and ``continuous`` (1, or 0 also
         for a branch that reaches below ρ*_k by less than the density step, whose coexistence gap is then not
         resolved: both densities are ρ*_k). ``particle_area`` > 0: in Parsons–Lee theory."""
+    _check_phi(_area(excluded_area))
     try:
         found = phase_behaviour(excluded_area, orders, particle_area=particle_area)
-    except ValueError:  # never unstable: no transition
+    except NeverUnstable:  # no transition
         return _transition_dataset(0, math.nan, math.nan, math.nan, False)
     ordered = found.stable_order.where(found.stable_order > 0, drop=True)
     k = int(ordered[0]) if ordered.size else int(found.order[found.bifurcation_density.argmin()])
@@ -734,10 +760,10 @@ def parsons_lee_density(density, particle_area: float):
     coexisting densities of a first-order transition do not (pressure and chemical potential change too):
     :func:`phase_behaviour` and :func:`first_transition` with ``particle_area`` give them.
     An approximation, not an exact result: see the guide. A thin particle (a = 0) keeps its density."""
-    target = np.asarray(density, dtype=float)
-    area = float(particle_area)
-    if not (math.isfinite(area) and area >= 0):
-        raise ValueError(f"particle_area must be a finite area >= 0 (b^2), got {particle_area!r}")
+    target = check_finite("density", density, " (b^-2)")
+    if np.any(target < 0):
+        raise ValueError(f"density must be >= 0 (b^-2), got a minimum of {target.min()!r}")
+    area = check_nonnegative("particle_area", particle_area, " (b^2)")
     if area == 0:
         return target[()]
     goal = target * area  # η G(η) = ρ_O a: increasing in η from 0 to ∞ on [0, 1)

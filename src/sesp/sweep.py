@@ -472,15 +472,28 @@ def _claim(folder, point) -> int | None:
     """Hold the point's lock: an ``flock`` that the operating system releases when its holder dies.
 
     Returns the open lock file (keep it open while computing), or None when
-    another process holds the lock.
+    another process holds the lock. Its holder removes the lock file before releasing it, whether the point
+    was written or not; a lock taken on a file so removed is no lock, and is refused.
     """
-    fd = os.open(_lock_path(folder, point), os.O_CREAT | os.O_RDWR, 0o644)
+    path = _lock_path(folder, point)
+    fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
+        held = os.fstat(fd)
+        now = os.stat(path)
+    except (BlockingIOError, FileNotFoundError):
+        os.close(fd)
+        return None
+    if (held.st_dev, held.st_ino) != (now.st_dev, now.st_ino):  # its holder removed it as we opened it
         os.close(fd)
         return None
     return fd
+
+
+def _release(folder, point, lock: int):
+    """Remove the point's lock file, then release the lock (removed while held: see :func:`_claim`)."""
+    _lock_path(folder, point).unlink(missing_ok=True)
+    os.close(lock)
 
 
 def temporaries(folder, stem: str) -> list[Path]:
@@ -509,11 +522,9 @@ def run_point(point: SweepPoint, folder: str) -> str | None:
             result = compute_point(point)
             with _SAVING:  # the orphan watch waits for a write under way (see _leave_orphaned)
                 save(result, path)
-        # safe to remove now: whoever locks a stale copy of it finds the point finished
-        _lock_path(folder, point).unlink(missing_ok=True)
     finally:
         _WRITING = None
-        os.close(lock)
+        _release(folder, point, lock)
     return str(path)
 
 
@@ -664,7 +675,7 @@ def remove_stale_temporaries(folder, points):
             for path in stale:
                 path.unlink(missing_ok=True)
         finally:
-            os.close(lock)
+            _release(folder, point, lock)
 
 
 def _execute_dask(todo, folder, scheduler, bar):
