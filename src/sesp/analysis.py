@@ -135,7 +135,7 @@ def analyze(
           for a thin particle, NaN for two different particles);
         * ``"third_virial"``: ``third_virial_coefficient`` ± error (b⁴) and
           ``reduced_third_virial`` B₃/B₂² (:func:`sesp.virial.third_virial` at its
-          defaults: 129 nodes, 32 orientations; a few seconds);
+          defaults: refined until the bar is at most 1e-3 · |B₃|);
         * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}

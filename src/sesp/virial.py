@@ -28,13 +28,17 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
-from .checks import check_choice, check_count
+from .checks import check_choice, check_count, check_range
 from .grid import available_memory
 from .kernels.overlap import crossing_field, state_crossings
+from .kernels.spectra import triple_sum
 from .measures import RTOL, excluded_area, lattice_shifts
 from .onsager import mixture_second_virial
 from .pair import as_pair
@@ -45,6 +49,9 @@ from .units import link_errors, quantity
 __all__ = ["second_virial", "third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
 
 ORIENTATIONS = ("free", "fixed")
+B3_RTOL = 1e-3  # the relative error bar third_virial refines to by default
+START = {"nodes": 129, "nphi": 32}  # the settings third_virial refines from
+LARGEST = {"nodes": 1025, "nphi": 256}  # and the largest it refines to
 
 
 def _lattice(reach: float, nodes: int) -> np.ndarray:
@@ -70,21 +77,34 @@ def _overlaps(v1, v2, angle1: float, angle2: float, xs, pair, shift=(0.0, 0.0)) 
 
 
 class _Correlator:
-    """Σ_{r₂} E₁₂(r₂) Σ_{r₃} E₁₃(r₃) E₂₃(r₃ − r₂) in node counts, by FFT, on one lattice."""
+    """Σ_{r₂} E₁₂(r₂) Σ_{r₃} E₁₃(r₃) E₂₃(r₃ − r₂) in node counts, by FFT, on one lattice.
+
+    On the lattice padded to P = 2·nodes (no wrap-around of differences up to ±(nodes − 1)), with the
+    difference lattice centred at c = nodes // 2, the sum is (1/P²) Σ_f Ê₁₂(f) conj(Ê₁₃(f)) Ê₂₃(f) e^{2πi f·c/P}
+    over all frequencies f: one product of three spectra, no inverse transform per triple. The count is a
+    whole number; where rounding leaves it more than 1/4 from one, it is counted again through the inverse
+    transform of Ê₁₃ conj(Ê₂₃), rounded node by node."""
 
     def __init__(self, nodes: int):
         self.nodes = nodes
-        self.shape = (2 * nodes, 2 * nodes)  # padded: no wrap-around of shifts up to ±(nodes − 1)
+        self.shape = (2 * nodes, 2 * nodes)
+        size, centre = self.shape[0], nodes // 2
+        turn = np.exp(2j * np.pi * centre * np.arange(size) / size)
+        halves = np.full(size // 2 + 1, 2.0)  # rfft2 keeps half the columns: the others are conjugates
+        halves[[0, -1]] = 1.0
+        self.weights = turn[:, None] * (turn[: size // 2 + 1] * halves)[None, :] / size**2
 
     def spectrum(self, e: np.ndarray) -> np.ndarray:
         return np.fft.rfft2(e, s=self.shape)
 
-    def triple(self, e12: np.ndarray, spectrum13: np.ndarray, spectrum23: np.ndarray) -> int:
+    def triple(self, e12: np.ndarray, spectrum12, spectrum13: np.ndarray, spectrum23: np.ndarray) -> int:
+        total = triple_sum(spectrum12, spectrum13, spectrum23, self.weights)
+        if abs(total - round(total)) < 0.25:
+            return int(round(total))
         g = np.fft.irfft2(spectrum13 * np.conj(spectrum23), s=self.shape)  # g[m] = Σ_p e13[p] e23[p − m]
         k = self.nodes // 2
         shifts = np.r_[np.arange(self.shape[0] - k, self.shape[0]), np.arange(0, k + 1)]  # m = −k .. k
-        inner = np.rint(g[np.ix_(shifts, shifts)])
-        return int(np.rint((e12 * inner).sum()))
+        return int(np.rint((e12 * np.rint(g[np.ix_(shifts, shifts)])).sum()))
 
 
 def second_virial(particles, fractions=None, *, rtol: float = RTOL) -> xr.Dataset:
@@ -122,8 +142,9 @@ def third_virial(
     second=None,
     third=None,
     *,
-    nodes: int = 129,
-    nphi: int = 32,
+    rtol: float | None = B3_RTOL,
+    nodes: int | None = None,
+    nphi: int | None = None,
     shifts: int | None = None,
     orientations: str = "free",
     segments: int = DEFAULT_SEGMENTS,
@@ -132,15 +153,24 @@ def third_virial(
 ) -> xr.Dataset:
     """B₃ of one species, or B₃,ᵢⱼₖ of three (a mixture), with an error bar, from the overlap indicators (b⁴).
 
+    The settings left unset are refined from ``START``, each step raising the one whose part of the error bar is
+    larger (``nodes`` to 2·nodes − 1 for the lattice part, ``nphi`` by 3/2 for the orientation part), until the
+    error bar is at most ``rtol`` · |B₃|. Where that cannot be reached (a given setting's part dominates, or the
+    next step would pass ``LARGEST`` or the memory limit) the result says so (attribute ``converged`` 0) and a
+    warning tells how far it got.
+
     Parameters
     ----------
     particle, second, third
         Particles 1, 2 and 3 (SeSP or Polyline; ``second`` and ``third`` default to ``particle``).
-    nodes : int
-        Lattice nodes along each axis (odd; the lattice spans the reach of the widest pair). The cost is
-        nphi² correlations of (2·nodes)² FFTs; the lattice error falls roughly as 1/nodes^1.5.
-    nphi : int
-        Orientations per particle, φ = 2πk/nphi (even, so that every other one is a coarser rule).
+    rtol : float or None
+        Relative error bar of B₃ to reach (default 1e-3); None: one evaluation at the start settings.
+    nodes : int, optional
+        Lattice nodes along each axis (odd; the lattice spans the reach of the widest pair); refined from 129
+        if unset. The cost is nphi² FFTs of (2·nodes)² points; the lattice error falls roughly as 1/nodes^1.5.
+    nphi : int, optional
+        Orientations per particle, φ = 2πk/nphi (even, so that every other one is a coarser rule); refined from
+        32 if unset.
     shifts : int, optional
         Lattices for particles 2 and 3 moved together by a low-discrepancy shift (their difference, where E₂₃
         is decided, stays on the lattice): the mean is the value, the scatter part of the error bar. Default
@@ -152,9 +182,9 @@ def third_virial(
     segments : int
         Polyline segments of SeSPs.
     progress : bool
-        A progress bar over the orientation pairs.
+        A progress bar over the orientation pairs of each step.
     memory_limit : int, optional
-        Bytes the E₁₂ slices and E₁₃ spectra held over φ may take (:func:`held_bytes`); default half the
+        Bytes the E₁₂ slices and the E₁₂ and E₁₃ spectra held over φ may take (:func:`held_bytes`); default half the
         available memory. More is refused before any work.
 
     Returns
@@ -164,46 +194,107 @@ def third_virial(
         ``second_virial_coefficient`` (b², of particles 1 and 2, from :func:`sesp.excluded_area` for free
         orientations, from the lattice's own count of the φ = 0 slice for fixed ones) and the reduced
         ``reduced_third_virial`` B₃/B₂² with its error; attributes: the lattice (``nodes``, ``spacing``),
-        ``nphi``, ``orientations`` and ``seconds``.
+        ``nphi``, ``orientations``, ``lattice_error`` and ``phi_error`` (b⁴), ``rtol``, ``converged`` and
+        ``seconds`` (all steps).
 
     Examples
     --------
     >>> from sesp import Polyline
     >>> from sesp.virial import third_virial
     >>> square = Polyline([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]])
-    >>> b = third_virial(square, orientations="fixed", nodes=201)
+    >>> b = third_virial(square, orientations="fixed", nodes=201, rtol=None)
     >>> round(float(b.reduced_third_virial), 3)  # parallel hard squares: 3/4
     0.75
     """
-    nodes, nphi, shifts = _checked(nodes, nphi, shifts, orientations, memory_limit)
-    fixed = orientations == "fixed"
+    rtol = None if rtol is None else check_range("rtol", rtol, 1e-9, 0.5, " (relative error bar of B3)")
+    fixed = check_choice("orientations", orientations, ORIENTATIONS) == "fixed"
+    free = {name for name, value in (("nodes", nodes), ("nphi", nphi)) if value is None}
+    free -= {"nphi"} if fixed else set()
+    settings = {"nodes": START["nodes"] if nodes is None else nodes, "nphi": START["nphi"] if nphi is None else nphi}
     pairs = _three_pairs(particle, second, third, segments)
-    xs = _lattice(max(p.reach for p in pairs), nodes)
     t0 = time.perf_counter()
+    while True:
+        found = _third_virial_at(pairs, settings, shifts, orientations, progress, memory_limit)
+        b3, error = float(found.third_virial_coefficient), float(found.third_virial_coefficient_error)
+        if rtol is None or error <= rtol * abs(b3):
+            converged = True
+            break
+        step = _next_b3_setting(found, settings, free, shifts, memory_limit)
+        if step is None:
+            converged = False
+            warnings.warn(f"third_virial: rtol {rtol:g} not met: B3 = {b3:.8g} ± {error:.2g} b^4 (relative "
+                          f"{error / abs(b3):.2g}) at {settings}; lattice part {found.attrs['lattice_error']:.2g}, "
+                          f"orientation part {found.attrs['phi_error']:.2g} b^4; the settings given stay as given "
+                          f"(largest refined: {LARGEST})", stacklevel=2)  # fmt: skip
+            break
+        settings[step] = _raised(step, settings[step])
+    seconds = time.perf_counter() - t0
+    found.attrs.update(rtol=np.nan if rtol is None else rtol, converged=int(converged), seconds=seconds)
+    if fixed:
+        return found
+    area = excluded_area(particle, second)  # the smooth curves' for SeSPs: within 1e-5 of the polygons'
+    return _with_second_virial(found, float(area.mean_excluded_area) / 2, float(area.mean_excluded_area_error) / 2)
+
+
+def _raised(name: str, value: int) -> int:
+    """The next value of a refined setting: nodes to 2·nodes − 1 (every old node kept), nphi by 3/2 to an even
+    number (the orientation part falls fast: doubling overshoots)."""
+    return 2 * value - 1 if name == "nodes" else 2 * round(0.75 * value)
+
+
+def _next_b3_setting(found, settings, free, shifts, memory_limit) -> str | None:
+    """The setting to raise next (the one with the larger part of the error bar, among those left free), or
+    None where it is given, at its largest, or would not fit in memory."""
+    parts = {"nodes": found.attrs["lattice_error"], "nphi": found.attrs["phi_error"]}
+    for name in sorted(free, key=lambda k: -parts[k]):
+        raised = _raised(name, settings[name])
+        if parts[name] == 0 or raised > LARGEST[name]:
+            continue
+        trial = {**settings, name: raised}
+        try:
+            _checked(trial["nodes"], trial["nphi"], shifts, found.attrs["orientations"], memory_limit)
+        except MemoryError:
+            continue
+        return name if parts[name] >= max(parts.values()) else None
+    return None
+
+
+def _third_virial_at(pairs, settings, shifts, orientations, progress, memory_limit) -> xr.Dataset:
+    """B₃ at the given lattice and orientations; for fixed orientations with B₂ from the φ = 0 slice of the
+    same lattice."""
+    nodes, nphi, shifts = _checked(settings["nodes"], settings["nphi"], shifts, orientations, memory_limit)
+    fixed = orientations == "fixed"
+    xs = _lattice(max(p.reach for p in pairs), nodes)
+    h = float(xs[1] - xs[0])
     counts = _triple_counts(pairs, xs, nphi, shifts, progress)
-    b3, lattice_error, phi_error = _b3_and_errors(counts, float(xs[1] - xs[0]), fixed)
-    if fixed:  # B₂ from the same lattice: the φ = 0 slice's own count
-        h = float(xs[1] - xs[0])
-        e12 = [_overlaps(pairs[0].vertices1, pairs[0].vertices2, 0.0, 0.0, xs, pairs[0], move)
-               for move in _moves(shifts, h)]  # fmt: skip
-        b2, b2_error = 0.5 * float(np.mean([e.sum() for e in e12])) * h * h, 0.0
-    else:
-        area = excluded_area(particle, second)  # the smooth curves' for SeSPs: within 1e-5 of the polygons'
-        b2, b2_error = float(area.mean_excluded_area) / 2, float(area.mean_excluded_area_error) / 2
-    error = lattice_error + phi_error
-    ratio = b3 / b2**2
-    ratio_error = ratio * (error / abs(b3) + 2 * b2_error / b2)
-    return link_errors(xr.Dataset(
+    b3, lattice_error, phi_error = _b3_and_errors(counts, h, fixed)
+    found = xr.Dataset(
         {
             "third_virial_coefficient": ((), b3, quantity(4, "third virial coefficient B3")),
-            "third_virial_coefficient_error": ((), error, quantity(4, "error bar of B3 (lattice + φ)")),
-            "second_virial_coefficient": ((), b2, quantity(2, "second virial coefficient B2")),
-            "reduced_third_virial": ((), ratio, {"units": "1", "long_name": "B3 / B2^2"}),
-            "reduced_third_virial_error": ((), ratio_error, {"units": "1", "long_name": "error bar of B3 / B2^2"}),
+            "third_virial_coefficient_error": ((), lattice_error + phi_error,
+                                               quantity(4, "error bar of B3 (lattice + φ)")),
         },
-        attrs={"nodes": len(xs), "spacing": float(xs[1] - xs[0]), "nphi": nphi, "orientations": orientations,
-               "lattice_error": lattice_error, "phi_error": phi_error, "seconds": time.perf_counter() - t0},
-    ))  # fmt: skip
+        attrs={"nodes": len(xs), "spacing": h, "nphi": nphi, "orientations": orientations,
+               "lattice_error": lattice_error, "phi_error": phi_error},
+    )  # fmt: skip
+    if not fixed:
+        return found
+    e12 = [_overlaps(pairs[0].vertices1, pairs[0].vertices2, 0.0, 0.0, xs, pairs[0], move)
+           for move in _moves(shifts, h)]  # fmt: skip
+    return _with_second_virial(found, 0.5 * float(np.mean([e.sum() for e in e12])) * h * h, 0.0)  # the lattice's
+
+
+def _with_second_virial(found: xr.Dataset, b2: float, b2_error: float) -> xr.Dataset:
+    """``found`` with B₂ (b²) and the reduced B₃/B₂² with its error."""
+    b3, error = float(found.third_virial_coefficient), float(found.third_virial_coefficient_error)
+    ratio = b3 / b2**2
+    ratio_error = ratio * (error / abs(b3) + 2 * b2_error / b2)
+    out = found.assign(
+        second_virial_coefficient=((), b2, quantity(2, "second virial coefficient B2")),
+        reduced_third_virial=((), ratio, {"units": "1", "long_name": "B3 / B2^2"}),
+        reduced_third_virial_error=((), abs(ratio_error), {"units": "1", "long_name": "error bar of B3 / B2^2"}),
+    )
+    return link_errors(out)
 
 
 def _checked(nodes, nphi, shifts, orientations, memory_limit) -> tuple:
@@ -231,29 +322,38 @@ def _moves(shifts: int, h: float) -> np.ndarray:
 
 def _triple_counts(pairs, xs, nphi: int, shifts: int, progress: bool) -> np.ndarray:
     """(shifts, nphi, nphi, 2): Σ_{r₂} E₁₂ Σ_{r₃} E₁₃ E₂₃ in node counts per shift and orientations (φ₂, φ₃),
-    on the lattice ``xs`` and on its sublattice of every other node."""
+    on the lattice ``xs`` and on its sublattice of every other node. Orientation pairs are shared among
+    threads (numba's thread count); each writes its own entries, so the counts do not depend on it."""
     p12, p13, p23 = pairs
     phi = 2 * np.pi * np.arange(nphi) / nphi
     moves = _moves(shifts, float(xs[1] - xs[0]))
     fine, coarse = _Correlator(len(xs)), _Correlator(len(xs[::2]))
-    e12 = [[_overlaps(p12.vertices1, p12.vertices2, 0.0, a, xs, p12, move) for a in phi] for move in moves]
-    spectra = []
-    for move in moves:
-        e13 = [_overlaps(p13.vertices1, p13.vertices2, 0.0, a, xs, p13, move) for a in phi]
-        spectra.append([(fine.spectrum(e), coarse.spectrum(e[::2, ::2])) for e in e13])
-    symmetric = p23.identical
-    counts = np.zeros((shifts, nphi, nphi, 2))
-    todo = [(j, k) for j in range(nphi) for k in range(nphi) if not (symmetric and k < j)]
-    with progress_bar(len(todo), progress, "B3 orientation pairs", unit="pair") as bar:
-        for j, k in todo:
+
+    def slice_and_spectra(pair, move, angle):
+        e = _overlaps(pair.vertices1, pair.vertices2, 0.0, angle, xs, pair, move)
+        return e, fine.spectrum(e), coarse.spectrum(e[::2, ::2])
+
+    with ThreadPoolExecutor(numba.get_num_threads()) as pool:
+        e12 = [list(pool.map(lambda a, m=m: slice_and_spectra(p12, m, a), phi)) for m in moves]
+        e13 = [list(pool.map(lambda a, m=m: slice_and_spectra(p13, m, a), phi)) for m in moves]
+        symmetric = p23.identical
+        todo = [(j, k) for j in range(nphi) for k in range(nphi) if not (symmetric and k < j)]
+        counts = np.zeros((shifts, nphi, nphi, 2))
+
+        def one_pair(jk):
+            j, k = jk
             e23 = _overlaps(p23.vertices1, p23.vertices2, phi[j], phi[k], xs, p23)
             f23 = (fine.spectrum(e23), coarse.spectrum(e23[::2, ::2]))
             for m in range(shifts):
-                counts[m, j, k, 0] = fine.triple(e12[m][j], spectra[m][k][0], f23[0])
-                counts[m, j, k, 1] = coarse.triple(e12[m][j][::2, ::2], spectra[m][k][1], f23[1])
+                e, s12_fine, s12_coarse = e12[m][j]
+                counts[m, j, k, 0] = fine.triple(e, s12_fine, e13[m][k][1], f23[0])
+                counts[m, j, k, 1] = coarse.triple(e[::2, ::2], s12_coarse, e13[m][k][2], f23[1])
             if symmetric:
                 counts[:, k, j] = counts[:, j, k]
-            bar.update(1)
+
+        with progress_bar(len(todo), progress, "B3 orientation pairs", unit="pair") as bar:
+            for _ in pool.map(one_pair, todo):
+                bar.update(1)
     return counts
 
 
@@ -267,7 +367,7 @@ def _b3_and_errors(counts, h: float, fixed: bool) -> tuple:
     coarse_b3 = float(counts[..., 1].mean()) * (2 * h) ** 4 / 3
     spread = float(per_shift.std(ddof=1)) / math.sqrt(shifts) if shifts > 1 else 0.0
     lattice_error = max(2 * spread, abs(b3 - coarse_b3))  # first order: flat sides along the lattice
-    phi_error = abs(b3 - counts[:, ::2, ::2, 0].mean() * h**4 / 3) if not fixed else 0.0
+    phi_error = abs(b3 - float(counts[:, ::2, ::2, 0].mean()) * h**4 / 3) if not fixed else 0.0
     return b3, lattice_error, phi_error
 
 
@@ -281,10 +381,11 @@ def _three_pairs(particle, second, third, segments: int) -> tuple:
 
 def held_bytes(nodes: int, nphi: int, shifts: int) -> int:
     """Bytes :func:`third_virial` holds through its loop over orientation pairs: per shift and orientation,
-    E₁₂ (bool, nodes²) and E₁₃'s spectra on the lattice and its sublattice (complex, 2n × (n + 1) each)."""
+    E₁₂ (float, nodes²) and the spectra of E₁₂ and E₁₃ on the lattice and its sublattice (complex,
+    2n × (n + 1) each)."""
     half = (nodes + 1) // 2
     spectra = 16 * (2 * nodes * (nodes + 1) + 2 * half * (half + 1))
-    return shifts * nphi * (nodes * nodes + spectra)
+    return shifts * nphi * (8 * nodes * nodes + 2 * spectra)
 
 
 def check_held_bytes(nodes: int, nphi: int, shifts: int, limit: int | None = None) -> None:

@@ -4,6 +4,7 @@
 * :mod:`.hull`: each curve against the other's filled convex hull (entanglement);
 * :mod:`.orientations`: blocked φ intervals at a fixed translation, exact in φ;
 * :mod:`.depth`: lower bounds on the depth of excluded positions, exact in φ;
+* :mod:`.spectra`: sums over Fourier spectra (the third virial coefficient);
 * :mod:`.cells`: quadtree leaves' adjacency and their components (the one union-find);
 * :mod:`.common`: the shared jit options and helpers.
 
