@@ -130,6 +130,8 @@ def test_every_command_line_runs(quick_results, page):
     pytest) are what CI itself runs."""
     matplotlib.use("Agg")
     (quick_results / "my_particle.txt").write_text("-1 0\n1 0\n")
+    (quick_results / "a.txt").write_text("-1 0\n1 0\n")  # the guide's mixture: a needle and a staple
+    (quick_results / "b.txt").write_text("0.5 -0.5\n-0.5 -0.5\n-0.5 0.5\n0.5 0.5\n")
     for sweep in (quick_results / "sweeps").glob("*.toml"):
         if sweep.name != "quick.toml":
             text = re.sub(r"nx = \d+", "nx = 32", sweep.read_text())

@@ -116,19 +116,26 @@ def _particle_from_args(args):
     """The SeSP of the shape arguments, or the polyline of ``--vertices`` (with ``--thickness``)."""
     if args.vertices is None:
         return _shape_from_args(args, args.opening)
+    return _polyline_from_file(args.vertices, args.thickness)
+
+
+def _polyline_from_file(path, thickness: float):
+    """The polyline of a text file of x y rows (b)."""
     import numpy as np
 
     from .shape import Polyline
 
     try:
-        vertices = np.loadtxt(args.vertices, ndmin=2)
+        vertices = np.loadtxt(path, ndmin=2)
     except (OSError, ValueError) as err:
-        raise ValueError(f"--vertices: cannot read {args.vertices} as rows of x y (b): {err}") from None
-    return Polyline(vertices, thickness=args.thickness)
+        raise ValueError(f"--vertices: cannot read {path} as rows of x y (b): {err}") from None
+    return Polyline(vertices, thickness=thickness)
 
 
 def _cmd_area(args) -> int:
     import json
+
+    import numpy as np
 
     from .measures import excluded_area
     from .onsager import ORDER_NAMES, onsager_variables
@@ -153,14 +160,15 @@ def _cmd_area(args) -> int:
             **shape,
             **{k: attrs[k] for k in ("excluded_area_of", "segments", "nphi", "rows", "rtol")},
             "converged": bool(attrs["converged"]),
-            "units": {"lengths": "b", "areas": "b^2", "densities": "b^-2", "angles": "rad"},
+            "units": {"lengths": "b", "areas": "b^2", "densities": "b^-2", "angles": "deg"},
             "mean_excluded_area": mean,
             "mean_excluded_area_error": error,
             "second_virial_coefficient": float(found["second_virial_coefficient"]),
             "second_virial_coefficient_error": float(found["second_virial_coefficient_error"]),
             "leading_instability": leading,
             "leading_instability_density": None if not leading else density,
-            "phi": ds.phi.values.tolist(),
+            "phi_deg": np.degrees(ds.phi.values).tolist(),
+            "phi_rad": ds.phi.values.tolist(),
             "excluded_area": ds.excluded_area.values.tolist(),
             "excluded_area_error": ds.excluded_area_error.values.tolist(),
         }
@@ -184,6 +192,166 @@ def _cmd_area(args) -> int:
     else:
         print("first isotropic instability: none (no Fourier coefficient a_k significantly negative)")
     return 0
+
+
+def _add_virial(sub):
+    p = sub.add_parser(
+        "virial", help="B₂ and B₃ with error bars, of one particle or of a mixture (--vertices FILE per species)"
+    )
+    _add_shape_args(p, segments=None)
+    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
+    p.add_argument(
+        "--vertices", type=Path, action="append", default=None, metavar="FILE",
+        help="a polyline of your own instead of a SeSP (rows of x y, b); give it once per species of a mixture",
+    )  # fmt: skip
+    p.add_argument("--fractions", type=float, nargs="+", default=None, help="mole fractions (default equal)")
+    p.add_argument("--rtol", type=float, default=1e-5, help="relative error bar of each ⟨A_ex⟩ (default 1e-5)")
+    p.add_argument("--b3-rtol", type=float, default=1e-3, help="relative error bar of B₃ to reach (default 1e-3)")
+    p.add_argument("--nodes", type=int, default=None, help="B₃ lattice nodes (odd; default: refined from 129)")
+    p.add_argument("--nphi", type=int, default=None, help="B₃ orientations (even; default: refined from 32)")
+    p.add_argument("--no-b3", action="store_true", help="B₂ alone (seconds, where B₃ takes up to a minute)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_virial)
+
+
+def _species_from_args(args) -> list:
+    """The particles of ``sesp virial``: the SeSP of the shape arguments, or one polyline per ``--vertices``."""
+    if not args.vertices:
+        return [_shape_from_args(args, args.opening)]
+    return [_polyline_from_file(path, args.thickness) for path in args.vertices]
+
+
+def _shape_json(args, particles) -> dict:
+    """What the particles are, for a JSON answer (angles in degrees)."""
+    if getattr(args, "vertices", None):
+        files = args.vertices if isinstance(args.vertices, list) else [args.vertices]
+        return {"vertices": [str(f) for f in files], "thickness": args.thickness}
+    particle = particles[0]
+    return {"n": particle.n, "m": particle.m, "aspect": particle.aspect, "thickness": particle.thickness,
+            "opening_deg": args.opening}  # fmt: skip
+
+
+def _cmd_virial(args) -> int:
+    import json
+    from itertools import combinations_with_replacement
+
+    from .report import value_text
+    from .virial import second_virial, third_virial
+
+    species = _species_from_args(args)
+    fractions = args.fractions if args.fractions is not None else [1 / len(species)] * len(species)
+    if len(fractions) != len(species):
+        raise ValueError(f"--fractions must give one mole fraction per species ({len(species)}), got {fractions}")
+    _announce_compile("overlap", "scanline", "spectra")
+    b2 = second_virial(species, fractions, rtol=args.rtol)
+    out = {**_shape_json(args, species), "fractions": list(map(float, b2.fraction.values)),
+           "units": {"lengths": "b", "B2": "b^2", "B3": "b^4", "angles": "deg"},
+           "second_virial_coefficient": float(b2.second_virial_coefficient),
+           "second_virial_coefficient_error": float(b2.second_virial_coefficient_error)}  # fmt: skip
+    if not args.no_b3:
+        b3, b3_error, converged = 0.0, 0.0, True
+        x = out["fractions"]
+        for triple in combinations_with_replacement(range(len(species)), 3):
+            found = third_virial(*(species[i] for i in triple), rtol=args.b3_rtol, nodes=args.nodes, nphi=args.nphi,
+                                 segments=args.segments or 256, progress=not args.quiet)  # fmt: skip
+            weight = math.prod(x[i] for i in triple) * _permutations(triple)
+            b3 += weight * float(found.third_virial_coefficient)
+            b3_error += weight * float(found.third_virial_coefficient_error)
+            converged = converged and bool(found.attrs["converged"])
+        b2_value, b2_error = out["second_virial_coefficient"], out["second_virial_coefficient_error"]
+        ratio = b3 / b2_value**2
+        out.update(third_virial_coefficient=b3, third_virial_coefficient_error=b3_error,
+                   reduced_third_virial=ratio,
+                   reduced_third_virial_error=abs(ratio) * (b3_error / abs(b3) + 2 * b2_error / b2_value),
+                   b3_rtol=args.b3_rtol, b3_converged=converged)  # fmt: skip
+        if len(species) == 1:
+            out.update(nodes=found.attrs["nodes"], nphi=found.attrs["nphi"])
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    print(f"B2 = {value_text(out['second_virial_coefficient'], out['second_virial_coefficient_error'], 'b^2')}")
+    if not args.no_b3:
+        print(f"B3 = {value_text(out['third_virial_coefficient'], out['third_virial_coefficient_error'], 'b^4')}"
+              f"{'' if out['b3_converged'] else f' (rtol {args.b3_rtol:g} NOT met)'}")  # fmt: skip
+        print(f"B3 / B2^2 = {value_text(out['reduced_third_virial'], out['reduced_third_virial_error'], '')}")
+    return 0
+
+
+def _permutations(triple) -> int:
+    """How many ordered triples (i, j, k) are the same multiset as ``triple``."""
+    return math.factorial(3) // math.prod(math.factorial(triple.count(i)) for i in set(triple))
+
+
+def _add_phases(sub):
+    p = sub.add_parser(
+        "phases",
+        help="where the isotropic state turns unstable (each order, with bars) and the first transition, its kind",
+    )
+    _add_shape_args(p, segments=None)
+    p.add_argument("--opening", type=float, default=90.0, help="opening Ψ in degrees (default 90)")
+    _add_vertices_arg(p)
+    p.add_argument("--rtol", type=float, default=1e-5, help="relative error bar of ⟨A_ex⟩ (default 1e-5)")
+    p.add_argument(
+        "--parsons-lee", action="store_true", help="the first transition in Parsons–Lee theory (thick particles)"
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_phases)
+
+
+def _cmd_phases(args) -> int:
+    import json
+
+    from .measures import excluded_area
+    from .onsager import ORDER_NAMES, first_transition, instabilities, particle_area
+    from .report import value_text
+
+    particle = _particle_from_args(args)
+    _announce_compile("overlap", "scanline")
+    area = excluded_area(particle, rtol=args.rtol, segments=args.segments, progress=not args.quiet)
+    found = instabilities(area)
+    covered = particle_area(particle) if args.parsons_lee else 0.0
+    first = first_transition(area, particle_area=covered)
+    order = int(first.transition_order)
+    kind = "none" if order == 0 else ("continuous" if int(first.continuous) else "first order")
+    rows = [{"order": int(k), "name": ORDER_NAMES.get(int(k), f"k = {int(k)}"),
+             "a": float(found.a.sel(order=k)), "a_error": float(found.a_error.sel(order=k)),
+             "density": _finite_or_none(found.density.sel(order=k)),
+             "density_error": _finite_or_none(found.density_error.sel(order=k)),
+             "reduced_density": _finite_or_none(found.reduced_density.sel(order=k))}
+            for k in found.order.values]  # fmt: skip
+    out = {**_shape_json(args, [particle]), "units": {"densities": "b^-2", "areas": "b^2", "angles": "deg"},
+           "mean_excluded_area": float(area.mean_excluded_area),
+           "mean_excluded_area_error": float(area.mean_excluded_area_error),
+           "instabilities": rows, "leading_order": int(found.leading_order),
+           "theory": "Parsons-Lee" if args.parsons_lee else "second virial", "particle_area": covered,
+           "first_transition": {"order": order, "name": ORDER_NAMES.get(order, "none"), "kind": kind,
+                                "density": _finite_or_none(first.transition_density),
+                                "density_error": _finite_or_none(first.transition_density_error),
+                                "ordered_density": _finite_or_none(first.ordered_density)}}  # fmt: skip
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    print(f"<A_ex> = {value_text(out['mean_excluded_area'], out['mean_excluded_area_error'], 'b^2')}")
+    print("isotropic instabilities, rho*_k = -2/a_k where a_k < 0 (none where a_k is not significantly negative):")
+    for row in rows:
+        said = "none" if row["density"] is None else value_text(row["density"], row["density_error"], "b^-2")
+        print(f"  k = {row['order']} ({row['name']}): rho* = {said}")
+    first_said = out["first_transition"]
+    if order == 0:
+        print("first transition: none (the isotropic state is stable at every density)")
+    else:
+        density = value_text(first_said["density"], first_said["density_error"], "b^-2")
+        print(
+            f"first transition ({out['theory']}): {first_said['name']} (k = {order}), {kind}, at rho = {density}"
+            + ("" if kind == "continuous" else f", ordered phase at {first_said['ordered_density']:.6g} b^-2")
+        )
+    return 0
+
+
+def _finite_or_none(value):
+    """A float for JSON: None where it is NaN (no such density)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
 
 
 def _add_info(sub):
@@ -602,7 +770,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-COMMANDS = [_add_scan, _add_area, _add_info, _add_topology, _add_sweep, _add_collect, _add_plot, _add_figures]
+COMMANDS = [
+    _add_scan,
+    _add_area,
+    _add_virial,
+    _add_phases,
+    _add_info,
+    _add_topology,
+    _add_sweep,
+    _add_collect,
+    _add_plot,
+    _add_figures,
+]
 
 
 def _warning_handler() -> logging.Handler:

@@ -486,7 +486,7 @@ def excluded_area(
             ds = _measured(pair, settings["segments"], settings["nphi"], settings["rows"], memo)
             settings["rows"] = int(ds.attrs["rows"])
             mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
-            bar.set_postfix_str(f"{settings} <A_ex> = {mean:.9g} ± {error:.2g} b^2")
+            bar.set_postfix_str(f"{settings} <A_ex> = {mean:.9g} ± {error:.2g} b^2", refresh=False)
             bar.update(1)
             if rtol is None or error <= rtol * abs(mean):
                 converged = True

@@ -706,8 +706,10 @@ def first_transition(excluded_area, orders=(1, 2, 4), *, particle_area: float = 
         return _transition_dataset(k, float(row.coexistence_low), math.nan, float(row.coexistence_high), False)
     density = float(row.bifurcation_density)
     bar = math.nan
-    if int(row.continuous) == 1:  # ρ*_k's own bar, mapped as ρ*_k is (d ρ_PL / d ρ*_k ≤ 1: a bound)
-        bar = float(instabilities(excluded_area, [k]).density_error.sel(order=k))
+    if int(row.continuous) == 1:  # ρ*_k on the full φ grid, and its bar (d ρ_PL / d ρ*_k ≤ 1: a bound)
+        exact = instabilities(excluded_area, [k]).sel(order=k)
+        density = float(parsons_lee_density(float(exact.density), particle_area))
+        bar = float(exact.density_error)
     return _transition_dataset(k, density, bar, density, int(row.continuous) == 1)
 
 

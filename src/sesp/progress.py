@@ -1,8 +1,11 @@
-"""Progress bars that cost nothing when off (tqdm is imported only when a bar is shown)."""
+"""Progress bars that cost nothing when off (tqdm is imported only when a bar is shown). A bar appears only
+once its work has run for ``DELAY`` seconds: quick calls print nothing."""
 
 from __future__ import annotations
 
-__all__ = ["progress_bar", "progress_iter", "NoProgress"]
+__all__ = ["progress_bar", "progress_iter", "NoProgress", "DELAY"]
+
+DELAY = 2.0  # s: how long work runs before its bar is shown
 
 
 class NoProgress:
@@ -22,7 +25,7 @@ class NoProgress:
     def refresh(self):
         pass
 
-    def set_postfix_str(self, text=""):
+    def set_postfix_str(self, text="", refresh=True):
         pass
 
 
@@ -33,7 +36,7 @@ def progress_bar(total, enabled: bool, desc: str, unit: str = "it", initial: int
         return NoProgress()
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, unit=unit, desc=desc, leave=leave, initial=initial)
+    return tqdm(total=total, unit=unit, desc=desc, leave=leave, initial=initial, delay=DELAY)
 
 
 def progress_iter(iterable, enabled: bool, desc: str, unit: str = "it"):
@@ -42,4 +45,4 @@ def progress_iter(iterable, enabled: bool, desc: str, unit: str = "it"):
         return iterable
     from tqdm.auto import tqdm
 
-    return tqdm(iterable, desc=desc, unit=unit, leave=False)
+    return tqdm(iterable, desc=desc, unit=unit, leave=False, delay=DELAY)

@@ -27,9 +27,14 @@ def _particle_line(attrs, prefix) -> str:
     return f"{prefix:9s}: {shape}, N={attrs[f'{prefix}_segments']}, length={attrs[f'{prefix}_length']:.6g} b{thick}"
 
 
+def value_text(value: float, error: float, unit: str) -> str:
+    """A value ± its error bar as every command prints it (``unit`` as "b^2")."""
+    return f"{value:.8g} ± {error:#.2g}" + (f" {unit}" if unit else "")
+
+
 def area_text(mean: float, error: float) -> str:
     """⟨A_ex⟩ ± its error bar as every command prints it."""
-    return f"{mean:.8g} ± {error:#.2g} b^2"
+    return value_text(mean, error, "b^2")
 
 
 def _area_line(ds, rtol: float) -> str:
