@@ -6,7 +6,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from sesp import Grid, Polyline, SeSP, scan
+from sesp import Grid, Pair, Polyline, SeSP, overlaps, scan
 from sesp.kernels.overlap import crossings_at_states
 from sesp.measures import lattice_excluded_area
 
@@ -135,3 +135,18 @@ def test_excluded_area_does_not_depend_on_the_reference_point(curve, cx, cy):
     cell = (2 * (2 * moved.max_radius) * 96 / 94 / 96) ** 2
     scale = max(a.max(), 1.0)
     np.testing.assert_allclose(a, b, atol=0.05 * scale + 200 * cell)
+
+
+@PROPS
+@given(
+    sesps.map(lambda p: p.polyline(40)),
+    polylines(),
+    st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3), st.floats(0, 2 * math.pi)), min_size=1, max_size=40),
+)
+def test_overlaps_is_the_naive_segment_test_state_by_state(curve1, curve2, states):
+    """sesp.overlaps (chunks of segments skipped whole where their boxes are apart) says overlap exactly where
+    some segment pair meets (tests/naive.py, every pair); a Pair's polylines are used as they are."""
+    x, y, phi = (np.array(v) for v in zip(*states))
+    pair = Pair.of(curve1, curve2)
+    expected = [naive.crossings(pair.vertices1, pair.vertices2, *state) > 0 for state in zip(x, y, phi)]
+    np.testing.assert_array_equal(overlaps(pair, None, x, y, phi), expected)

@@ -30,7 +30,7 @@ from . import (
 from .analysis import analyze
 from .certified import Certified, certified_components
 from .dataset import SespFileError
-from .field import scan
+from .field import overlaps, scan
 from .grid import Grid
 from .io import load, save
 from .measures import excluded_area
@@ -49,8 +49,9 @@ __all__ = [
     "Polyline",
     "Pair",
     "Grid",
-    # the field of allowed states, and one analysis of a pair
+    # the field of allowed states, the overlap test state by state, and one analysis of a pair
     "scan",
+    "overlaps",
     "analyze",
     # the answers, one call each
     "excluded_area",

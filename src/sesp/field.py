@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from .checks import check_choice, check_positive, check_samples
+from .checks import check_choice, check_finite, check_positive, check_samples
 from .dataset import base_attrs, coords, grid_attrs, pair_attrs, pair_variables
 from .grid import Grid
 from .kernels import hull, overlap
@@ -36,6 +36,7 @@ __all__ = [
     "computed_slices",
     "working_bytes",
     "monte_carlo",
+    "overlaps",
     "ENGINES",
 ]
 
@@ -269,6 +270,39 @@ def scan(
     return reduce(pair, grid, [StoredField(fields)], engine=engine, progress=progress)
 
 
+def overlaps(particle, other, x, y, phi, *, segments: int = DEFAULT_SEGMENTS) -> np.ndarray:
+    """Whether ``other``, turned by ``phi`` (rad) and moved by (``x``, ``y``) (b), overlaps ``particle`` at the
+    origin: a boolean array over the states, of the broadcast shape of ``x``, ``y`` and ``phi``.
+
+    The test sesp's scans make, state by state: the polylines meet (a segment of one crosses or touches one of
+    the other, within the pair's contact tolerance), or for thick particles come closer than their contact
+    distance (D₁ + D₂)/2. It is exact for the polylines; a SeSP is its polyline of ``segments`` segments (its
+    departure from the smooth curve is :attr:`sesp.Pair.departure`). ``other`` None: a copy of ``particle``.
+    ``particle`` may be a :class:`~sesp.Pair` (``other`` then None), whose polylines are used as they are.
+    States run in parallel on numba's threads; the answer does not depend on their number.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sesp import Polyline, overlaps
+    >>> needle = Polyline([[-1, 0], [1, 0]])
+    >>> overlaps(needle, None, [0.0, 0.0, 3.0], [0.5, 1.5, 0.0], np.pi / 2)  # crossing, above, beside
+    array([ True, False, False])
+    """
+    pair = as_pair(particle, other, segments)
+    states = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, y, phi)))
+    for name, values in zip(("x", "y", "phi"), states, strict=True):
+        check_finite(name, values, " (b)" if name != "phi" else " (rad)")
+    x, y, phi = (np.ascontiguousarray(v).ravel() for v in states)
+    near = x * x + y * y <= (pair.reach + pair.tolerance) ** 2  # farther, the curves cannot meet
+    out = np.zeros(x.shape, dtype=bool)
+    if near.any():
+        out[near] = overlap.states_overlap(
+            pair.vertices1, pair.vertices2, x[near], y[near], phi[near], pair.tolerance, contact=pair.contact
+        )
+    return out.reshape(states[0].shape)
+
+
 def _rng(seed) -> np.random.Generator:
     return seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
 
@@ -320,8 +354,7 @@ def monte_carlo(
     rng = _rng(seed)
     x, y = rng.uniform(-side / 2, side / 2, size=(2, samples))
     phi = rng.uniform(0.0, 2 * math.pi, size=samples)
-    overlap_ = overlap.state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance, contact=pair.contact)
-    overlap_ = overlap_ > 0
+    overlap_ = overlaps(pair, None, x, y, phi)
     p = overlap_.mean()
     attrs = {**base_attrs("sesp.monte_carlo"), **pair_attrs(pair), "half_width": side / 2, "samples": samples}
     return link_errors(

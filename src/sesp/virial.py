@@ -36,8 +36,9 @@ import numpy as np
 import xarray as xr
 
 from .checks import check_choice, check_count, check_range
+from .field import overlaps
 from .grid import available_memory
-from .kernels.overlap import crossing_field, state_crossings
+from .kernels.overlap import crossing_field
 from .kernels.spectra import triple_sum
 from .measures import RTOL, excluded_area, lattice_shifts
 from .onsager import mixture_second_virial
@@ -400,12 +401,6 @@ def check_held_bytes(nodes: int, nphi: int, shifts: int, limit: int | None = Non
         )
 
 
-def _overlap_at(pair, x, y, phi) -> np.ndarray:
-    """Boolean: pair.particle's partner at (x, y) turned by phi overlaps pair.particle (arrays of states)."""
-    found = state_crossings(pair.vertices1, pair.vertices2, x, y, phi, pair.tolerance, contact=pair.contact)
-    return found > 0
-
-
 def third_virial_monte_carlo(
     particle, second=None, third=None, *, samples: int = 1_000_000, seed=None, segments: int = DEFAULT_SEGMENTS
 ):
@@ -427,11 +422,11 @@ def third_virial_monte_carlo(
         x2, y2 = rng.uniform(-half2, half2, size=(2, m))
         x3, y3 = rng.uniform(-half3, half3, size=(2, m))
         phi2, phi3 = rng.uniform(0.0, 2 * math.pi, size=(2, m))
-        hit = _overlap_at(p12, x2, y2, phi2) & _overlap_at(p13, x3, y3, phi3)
+        hit = overlaps(p12, None, x2, y2, phi2) & overlaps(p13, None, x3, y3, phi3)
         c, s = np.cos(phi2[hit]), np.sin(phi2[hit])
         dx, dy = x3[hit] - x2[hit], y3[hit] - y2[hit]
         both = np.zeros(m, dtype=bool)
-        both[hit] = _overlap_at(p23, c * dx + s * dy, -s * dx + c * dy, phi3[hit] - phi2[hit])
+        both[hit] = overlaps(p23, None, c * dx + s * dy, -s * dx + c * dy, phi3[hit] - phi2[hit])
         total += both.sum()
         total2 += both.sum()  # 0/1 values: the sum of squares is the sum
         done += m

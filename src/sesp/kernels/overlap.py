@@ -367,6 +367,72 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out):
         out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, contact, count), COUNT_MAX)
 
 
+# segments per chunk of the state-by-state test (cost only: a chunk pair whose boxes are apart is skipped whole)
+CHUNK_SEGMENTS = 16
+
+
+@njit(**JIT)
+def chunk_count(v):
+    """Chunks of CHUNK_SEGMENTS segments (the last may be shorter) of the polyline ``v``."""
+    return (v.shape[0] - 2) // CHUNK_SEGMENTS + 1
+
+
+@njit(**JIT)
+def chunk_boxes(v, out):
+    """``out[c]`` = (xmin, xmax, ymin, ymax) of the vertices of chunk c (segments c·CHUNK_SEGMENTS onwards)."""
+    for c in range(out.shape[0]):
+        first = c * CHUNK_SEGMENTS
+        last = min(first + CHUNK_SEGMENTS, v.shape[0] - 1)
+        out[c, 0] = out[c, 1] = v[first, 0]
+        out[c, 2] = out[c, 3] = v[first, 1]
+        for k in range(first + 1, last + 1):
+            out[c, 0] = min(out[c, 0], v[k, 0])
+            out[c, 1] = max(out[c, 1], v[k, 0])
+            out[c, 2] = min(out[c, 2], v[k, 1])
+            out[c, 3] = max(out[c, 3], v[k, 1])
+
+
+@njit(**JIT)
+def meets_in_chunks(v1, dlen, box1, b2, flen, box2, tx, ty, delta, contact):
+    """Whether any segment pair meets at translation (tx, ty): the pairs of :func:`crossings_at`, those of chunk
+    pairs whose boxes, moved by (tx, ty) and widened by twice the pair margin, overlap (no other pair can meet:
+    each segment pair's bounds lie within its chunks')."""
+    margin = MARGIN_FACTOR * delta + contact
+    wide = 2.0 * margin
+    for cj in range(box2.shape[0]):
+        for ci in range(box1.shape[0]):
+            if tx < box1[ci, 0] - box2[cj, 1] - wide or tx > box1[ci, 1] - box2[cj, 0] + wide:
+                continue
+            if ty < box1[ci, 2] - box2[cj, 3] - wide or ty > box1[ci, 3] - box2[cj, 2] + wide:
+                continue
+            for j in range(cj * CHUNK_SEGMENTS, min((cj + 1) * CHUNK_SEGMENTS, b2.shape[0] - 1)):
+                for i in range(ci * CHUNK_SEGMENTS, min((ci + 1) * CHUNK_SEGMENTS, v1.shape[0] - 1)):
+                    cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
+                    xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
+                    if tx < xmin or tx > xmax or ty < ymin or ty > ymax:
+                        continue
+                    if pair_meets(v1, b2, i, j, tx, ty, dlen[i], flen[j], delta, contact):
+                        return True
+    return False
+
+
+@njit(**JIT, parallel=True)
+def overlap_at_states(v1, v2, xs, ys, phis, delta, contact, out):
+    """``out[s]``: whether the curves meet at state (xs[s], ys[s], phis[s]), by :func:`meets_in_chunks`."""
+    dlen = np.empty(v1.shape[0] - 1)
+    segment_lengths(v1, dlen)
+    box1 = np.empty((chunk_count(v1), 4))
+    chunk_boxes(v1, box1)
+    for s in prange(xs.shape[0]):
+        b2 = np.empty_like(v2)
+        rotate(v2, math.cos(phis[s]), math.sin(phis[s]), b2)
+        flen = np.empty(b2.shape[0] - 1)
+        segment_lengths(b2, flen)
+        box2 = np.empty((chunk_count(b2), 4))
+        chunk_boxes(b2, box2)
+        out[s] = meets_in_chunks(v1, dlen, box1, b2, flen, box2, xs[s], ys[s], delta, contact)
+
+
 # --- the wrappers: arrays in, arrays out -------------------------------------------------
 
 ENGINES = ("raster", "direct")
@@ -406,4 +472,12 @@ def state_crossings(v1, v2, xs, ys, phis, delta, count=False, contact=0.0):
     """(s,) uint16: segment pairs that meet at each arbitrary state (xs[s], ys[s], phis[s])."""
     out = np.empty(len(xs), dtype=np.uint16)
     crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out)
+    return out
+
+
+def states_overlap(v1, v2, xs, ys, phis, delta, contact=0.0):
+    """(s,) bool: whether the curves meet at each arbitrary state (xs[s], ys[s], phis[s]); the same answer as
+    ``state_crossings(...) > 0``, skipping chunks of segments whose boxes are apart."""
+    out = np.empty(len(xs), dtype=np.bool_)
+    overlap_at_states(v1, v2, xs, ys, phis, delta, contact, out)
     return out
