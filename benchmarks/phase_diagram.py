@@ -21,6 +21,7 @@ from _common import machine, table
 
 import sesp
 from sesp.onsager import ORDER_NAMES, first_transition
+from sesp.units import quantity
 
 HERE = Path(__file__).parent
 STEP = float(sys.argv[1]) if len(sys.argv) > 1 else 15.0
@@ -71,7 +72,7 @@ def main():
             rows.append([*row, f"{out['seconds'][i, j]:.1f}"])
     ds = xr.Dataset(
         {
-            **{name: (("n", "opening"), out[name], {"units": "1", "in_units_of": "b^-2"}) for name in names},
+            **{name: (("n", "opening"), out[name], quantity(-2, name.replace("_", " "))) for name in names},
             "transition_order": (("n", "opening"), order, {"long_name": "k of the first order (0: none)"}),
             "continuous": (("n", "opening"), continuous),
         },

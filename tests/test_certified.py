@@ -252,27 +252,35 @@ def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_com
 
 
 def test_the_map_shows_every_component_at_equal_scale_on_its_whole_panel(caplog):
-    """The left panel keeps x and y at one scale by widening its limits, not by shrinking the panel (which left a
-    gap beside it), and so without a matplotlib warning about fixed limits."""
+    """Every panel keeps x and y at one scale by widening its limits, not by shrinking the panel (which left a
+    gap beside it), and so without a matplotlib warning about fixed limits; the overview holds the components
+    and the particle, each zoom panel its component; the legend names the particle and the pale cells."""
     from sesp.plot import certified_map
+    from sesp.shape import as_polyline
 
     found = certified_components(_asp(90), base=32, **COARSE)
     fig = certified_map(found, particle=_asp(90))
     with caplog.at_level(logging.WARNING):
         fig.canvas.draw()
     assert not caplog.records
-    main = fig.axes[0]
-    assert main.get_position(original=False).bounds == pytest.approx(main.get_position(original=True).bounds)
-    (x0, x1), (y0, y1), box = main.get_xlim(), main.get_ylim(), main.get_window_extent()
-    assert (x1 - x0) / box.width == pytest.approx((y1 - y0) / box.height, rel=1e-6)
-    for c in found.components:
-        assert x0 < c.box[0] and c.box[1] < x1 and y0 < c.box[2] and c.box[3] < y1
-    boxes = np.array([c.box for c in found.components])
+    v = as_polyline(_asp(90), 256).vertices
+    boxes = [c.box for c in found.components]
+    held = [[*boxes, (v[:, 0].min(), v[:, 0].max(), v[:, 1].min(), v[:, 1].max())], *([b] for b in boxes)]
+    for ax, inside in zip(fig.axes, held, strict=True):
+        assert ax.get_position(original=False).bounds == pytest.approx(ax.get_position(original=True).bounds)
+        (x0, x1), (y0, y1), extent = ax.get_xlim(), ax.get_ylim(), ax.get_window_extent()
+        assert (x1 - x0) / extent.width == pytest.approx((y1 - y0) / extent.height, rel=1e-6)
+        for box in inside:
+            assert x0 <= box[0] and box[1] <= x1 and y0 <= box[2] and box[3] <= y1
+    boxes = np.array(held[0])
     x_lo, x_hi, y_lo, y_hi = boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max()
-    pad = 0.15 * max(x_hi - x_lo, y_hi - y_lo)  # the view: the components' box grown by 15 % of its larger side
-    px0, px1, py0, py1 = x_lo - pad, x_hi + pad, y_lo - pad, y_hi + pad
-    # one pair of limits is the components' padded box, the other is widened to the panel: not zoomed out
-    assert (x0, x1) == pytest.approx((px0, px1)) or (y0, y1) == pytest.approx((py0, py1))
+    pad = 0.15 * max(x_hi - x_lo, y_hi - y_lo)  # the view: the whole box grown by 15 % of its larger side
+    (x0, x1), (y0, y1) = fig.axes[0].get_xlim(), fig.axes[0].get_ylim()
+    # one pair of limits is the padded box, the other is widened to the panel: not zoomed out
+    assert (x0, x1) == pytest.approx((x_lo - pad, x_hi + pad)) or (y0, y1) == pytest.approx((y_lo - pad, y_hi + pad))
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "the fixed particle" in labels
+    assert any(t.startswith("pale: undecided") for t in labels) == bool(np.any(found.cells["status"] == 2))
     plt.close(fig)
 
 
@@ -282,7 +290,10 @@ def test_a_map_without_components_says_how_deep_one_was_looked_for():
     found = certified_components(_asp(200), **COARSE)
     fig = certified_map(found, particle=_asp(200))
     (legend,) = fig.legends
-    assert [t.get_text() for t in legend.get_texts()] == ["no component at least 2.00e-03 b deep (resolution + rim)"]
+    assert [t.get_text() for t in legend.get_texts()] == [
+        "no component at least 2.00e-03 b deep (resolution + rim)",
+        "the fixed particle",
+    ]
     assert len(fig.axes) == 1
 
 

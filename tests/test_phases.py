@@ -91,6 +91,12 @@ def test_first_transition_and_its_figure(tmp_path):
     fig = sesp.plot.phase_diagram(ds)
     sesp.plot.save_figure(fig, tmp_path / "phases.png")
     assert (tmp_path / "phases.png").stat().st_size > 10_000
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert labels == ["nematic", "continuous", "first order", "no transition"]  # the circle's opening is said
+    density, gaps = fig.axes  # the gaps of first-order transitions below, on their own scale
+    assert [t.get_text() for t in gaps.texts] == ["every transition continuous"]
+    crosses = [line for line in density.lines if line.get_marker() == "x"]
+    assert len(crosses) == 1 and list(crosses[0].get_xdata()) == [0.0]
 
 
 @pytest.mark.parametrize("aspect", [2.5, 2.7])

@@ -517,17 +517,17 @@ def _padded(box, share=0.15, each=False):
 def certified_map(found, *, particle=None, title=None, fig=None):
     """The certified excluded components (:func:`sesp.certified.certified_components`), each in its colour.
 
-    Left: the whole set at equal scales on x and y (its limits widened to fill
-    the panel), with the fixed particle in grey for scale. Right: one
-    panel per component (up to six), zoomed to its bounding box with y
-    stretched to fill the panel, so strips far thinner than they are long are
-    seen. Solid cells are certified deeper than the resolution; pale cells are
-    undecided. A component shallower than resolution + rim is drawn as the
-    others, its legend saying it is not counted. ``title`` names the particle
+    Every panel has equal scales on x and y (its limits widened to fill it). Left: the whole set and the fixed
+    particle (in grey; the view holds both). Right: one panel per component (up to six), zoomed to its
+    bounding box, its size in the panel's title; a strip far thinner than it is long shows as a line (cells
+    narrower than a pixel keep an edge of their colour). Solid cells are certified deeper than the
+    resolution; pale cells are undecided. A component shallower than resolution + rim is drawn as the
+    others, its legend saying it is not counted. Every mark has a legend entry. ``title`` names the particle
     and opening.
     """
     import matplotlib
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     shown = found.components[:6]  # the deepest
@@ -535,10 +535,13 @@ def certified_map(found, *, particle=None, title=None, fig=None):
         fig = plt.figure(figsize=(11, 4.8) if shown else (6, 4.8), layout="constrained")
     grid = fig.add_gridspec(max(1, (len(shown) + 1) // 2), 3, width_ratios=(1.4, 1, 1)) if shown else fig.add_gridspec()
     main = fig.add_subplot(grid[:, 0])
+    boxes = [c.box for c in shown]
     if particle is not None:  # before the cells, which set the view (a line is drawn above them all the same)
         draw_particle(particle, main, color="0.6", arrow=False, lw=1.0)
-    if shown:
-        boxes = np.array([c.box for c in shown])
+        v = as_polyline(particle, 256).vertices
+        boxes.append((v[:, 0].min(), v[:, 0].max(), v[:, 1].min(), v[:, 1].max()))
+    if boxes:
+        boxes = np.array(boxes)
         whole = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
         _draw_cells(main, found, _padded(whole))
     main.set_aspect("equal", adjustable="datalim")  # equal scales on the whole panel: the limits widen to fill it
@@ -558,13 +561,18 @@ def certified_map(found, *, particle=None, title=None, fig=None):
             label += f" ({comp.tag()})"
         handles.append(Patch(color=color, label=label))
         ax = fig.add_subplot(grid[k // 2, 1 + k % 2])
-        _draw_cells(ax, found, _padded(comp.box, 0.05, each=True))
-        ax.set_aspect("auto")
-        ax.set_title(f"component {k + 1}", fontsize=8, color=color)
+        _draw_cells(ax, found, _padded(comp.box, 0.05))
+        ax.set_aspect("equal", adjustable="datalim")
+        width, height = comp.box[1] - comp.box[0], comp.box[3] - comp.box[2]
+        ax.set_title(f"component {k + 1}: {width:.2g} × {height:.2g} b", fontsize=8, color=color)
         ax.tick_params(labelsize=6)
         for axis in (ax.xaxis, ax.yaxis):  # plain numbers in b: an offset label is easily misread
             axis.set_major_locator(matplotlib.ticker.MaxNLocator(3))
             axis.set_major_formatter(matplotlib.ticker.ScalarFormatter(useOffset=False))
+    if particle is not None:
+        handles.append(Line2D([], [], color="0.6", lw=1.0, label="the fixed particle"))
+    if shown and np.any((found.cells["status"] == 2) & (found.cells["component"] >= 0)):
+        handles.append(Patch(facecolor="0.5", alpha=0.3, label="pale: undecided cells (whether excluded or not)"))
     if any(c.depth < c.departure for c in shown):
         handles.append(
             Patch(color="none", label=f"† shallower than the polylines' departure ({shown[0].departure:.1e} b)")
@@ -852,20 +860,21 @@ def _parsons_lee_differs(ds) -> bool:
 
 
 def phase_diagram(ds, *, axes=None):
-    """Density of the first ordering transition against the opening Ψ, one panel per n (Onsager theory).
+    """Density of the first ordering transition against the opening Ψ, one column per n (Onsager theory).
 
     ``ds`` over (``n``, ``opening``) holds ``transition_order`` (k: 1 polar, 2 nematic, 4 tetratic; 0 none),
     ``transition_density`` and ``ordered_density`` (b⁻²; the coexisting densities of a first-order
     transition) and ``continuous`` (as ``benchmarks/phase_diagram.py`` writes it, from
-    :func:`sesp.onsager.first_transition`). Below the line the isotropic state is stable; the band above is
-    coloured by the order that appears; first-order transitions are hollow markers with their coexistence
-    gap drawn as a bar. ``transition_density_error`` (a sweep's, where present) is drawn as error bars, and
+    :func:`sesp.onsager.first_transition`). Top row: below the line the isotropic state is stable; the band
+    above is coloured by the order that appears; first-order transitions are hollow markers; an opening with
+    no transition (the isotropic state stable at every density, as for the closed circle) is a grey cross on
+    the lower edge. ``transition_density_error`` (a sweep's, where present) is drawn as error bars, and
     ``parsons_lee_transition_density``, where it differs from the second-virial density (thick particles),
-    as a dashed line. Returns the figure.
+    as a dashed line. Bottom row: the coexistence gap of each first-order transition, (ρ_ordered −
+    ρ_isotropic)/ρ_isotropic in per cent, too narrow to see on the density's log scale. ``axes``: the top
+    row's axes, one per n (the gaps are then not drawn). Returns the figure.
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
 
     if "transition_density" not in ds:
         raise ValueError("phase_diagram needs transition_density: a sweep that keeps 'phases'")
@@ -873,53 +882,95 @@ def phase_diagram(ds, *, axes=None):
         n = float(ds.n) if "n" in ds.coords else float(ds.attrs.get("particle_n", math.nan))
         ds = ds.drop_vars("n", errors="ignore").expand_dims(n=[n])
     ns = list(ds.n.values)
+    gaps = None
     if axes is None:
-        fig, axes = plt.subplots(1, len(ns), figsize=(3.4 * len(ns), 3.4), sharey=True, layout="constrained")
+        fig, both = plt.subplots(2, len(ns), figsize=(3.6 * len(ns), 5.2), sharex="col", sharey="row",
+                                 height_ratios=(3, 1.2), layout="constrained", squeeze=False)  # fmt: skip
+        axes, gaps = both[0], both[1]
     axes = np.atleast_1d(axes)
     degrees = np.degrees(ds.opening.values)
     top = float(np.nanmax(ds.ordered_density.values)) * 3
     lowest = ["transition_density"] + ["parsons_lee_transition_density"] * _parsons_lee_differs(ds)
     bottom = min(float(np.nanmin(ds[name].values)) for name in lowest) / 3
-    for ax, n in zip(axes, ns, strict=True):
+    for i, (ax, n) in enumerate(zip(axes, ns, strict=True)):
         row = ds.sel(n=n)
-        rho, order = row.transition_density.values, row.transition_order.values.astype(int)
-        for i in range(len(degrees) - 1):  # the ordered band, each step coloured by the order at its ends
-            k = order[i] or order[i + 1]
-            if k and np.isfinite(rho[i : i + 2]).all():
-                ax.fill_between(degrees[i : i + 2], rho[i : i + 2], top, color=PHASE_FILLS[k], linewidth=0)
-        ax.plot(degrees, rho, color="k", lw=1)
-        if "transition_density_error" in row:
-            ax.errorbar(degrees, rho, yerr=row.transition_density_error.values, fmt="none", ecolor="k", lw=1)
-        if _parsons_lee_differs(row):
-            ax.plot(degrees, row.parsons_lee_transition_density.values, color="0.35", lw=1, ls="--")
-        for d, r, hi, k, cont in zip(degrees, rho, row.ordered_density.values, order, row.continuous.values):
-            if not k:
-                continue
-            face = PHASE_COLORS[k] if cont else "white"
-            ax.plot([d], [r], "o", color=PHASE_COLORS[k], markerfacecolor=face, markersize=5)
-            if hi > r:
-                ax.plot([d, d], [r, hi], color=PHASE_COLORS[k], lw=2)
-        ax.set_yscale("log")
-        ax.set_ylim(bottom, top)
-        ax.set_xlim(degrees[0], degrees[-1])
-        ax.set_xticks(np.arange(0, 361, 90))
+        _draw_transitions(ax, degrees, row, bottom, top)
         ax.set_title(f"n = {n:g}", fontsize=10)
-        ax.set_xlabel("opening Ψ (degrees)")
-        ax.text(0.03, 0.04, "isotropic", transform=ax.transAxes, fontsize=8, color="0.3")
+        if gaps is not None:
+            _draw_gaps(gaps[i], degrees, row)
+        else:
+            ax.set_xlabel("opening Ψ (degrees)")
     axes[0].set_ylabel(r"density $\rho$ ($b^{-2}$)")
-    present = sorted({int(k) for k in np.unique(ds.transition_order.values) if k})
-    handles = [Patch(color=PHASE_FILLS[k], label=ORDER_NAME[k]) for k in present]
-    handles += [
-        Line2D([], [], marker="o", color="k", linestyle="", label="continuous"),
-        Line2D([], [], marker="o", color="k", markerfacecolor="white", linestyle="", label="first order (gap)"),
-    ]
-    if _parsons_lee_differs(ds):
-        handles.append(Line2D([], [], color="0.35", ls="--", label="Parsons-Lee"))
     fig = axes[0].figure
+    handles = _phase_handles(ds)
     fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    if gaps is not None:  # one scale for every panel's gaps
+        first = (ds.transition_order > 0) & (ds.continuous == 0)
+        widest = float((100 * (ds.ordered_density - ds.transition_density) / ds.transition_density).where(first).max())
+        gaps[0].set_ylim(0, 1.3 * widest if np.isfinite(widest) and widest > 0 else 1.0)
     thickness = float(ds.thickness) if "thickness" in ds.coords and ds.thickness.ndim == 0 else None
     thickness = ds.attrs.get("thickness", thickness)
     what = "second-virial Onsager theory" + ("; dashed: Parsons-Lee" if _parsons_lee_differs(ds) else "")
     particles = f"SeSPs of thickness {thickness:g} b" if thickness else "thin SeSPs"
     fig.suptitle(f"first ordering transition of the isotropic state, {particles}\n({what})", fontsize=10)
     return fig
+
+
+def _draw_transitions(ax, degrees, row, bottom, top):
+    """One n's transition density over Ψ: the line, the ordered band, the markers, the openings without one."""
+    rho, order = row.transition_density.values, row.transition_order.values.astype(int)
+    for i in range(len(degrees) - 1):  # the ordered band, each step coloured by the order at its ends
+        k = order[i] or order[i + 1]
+        if k and np.isfinite(rho[i : i + 2]).all():
+            ax.fill_between(degrees[i : i + 2], rho[i : i + 2], top, color=PHASE_FILLS[k], linewidth=0)
+    ax.plot(degrees, rho, color="k", lw=1)
+    if "transition_density_error" in row:
+        ax.errorbar(degrees, rho, yerr=row.transition_density_error.values, fmt="none", ecolor="k", lw=1)
+    if _parsons_lee_differs(row):
+        ax.plot(degrees, row.parsons_lee_transition_density.values, color="0.35", lw=1, ls="--")
+    for d, r, k, cont in zip(degrees, rho, order, row.continuous.values, strict=True):
+        if k and np.isfinite(r):
+            face = PHASE_COLORS[k] if cont else "white"
+            ax.plot([d], [r], "o", color=PHASE_COLORS[k], markerfacecolor=face, markersize=5)
+    missing = (order == 0) | ~np.isfinite(rho)
+    if missing.any():  # on the edge, unclipped (an empty unclipped line would upset the layout)
+        ax.plot(degrees[missing], np.full(int(missing.sum()), bottom * 1.25), "x", color="0.4", ms=6, clip_on=False)
+    ax.set_yscale("log")
+    ax.set_ylim(bottom, top)
+    ax.set_xlim(degrees[0], degrees[-1])
+    ax.set_xticks(np.arange(0, 361, 90))
+    ax.text(0.03, 0.06, "isotropic", transform=ax.transAxes, fontsize=8, color="0.3")
+
+
+def _draw_gaps(ax, degrees, row):
+    """One n's coexistence gaps (per cent of the isotropic density) at its first-order transitions."""
+    rho, high = row.transition_density.values, row.ordered_density.values
+    order = row.transition_order.values.astype(int)
+    first = (order > 0) & (row.continuous.values == 0) & np.isfinite(rho) & np.isfinite(high)
+    for d, r, h, k in zip(degrees[first], rho[first], high[first], order[first], strict=True):
+        ax.plot([d, d], [0, 100 * (h - r) / r], color=PHASE_COLORS[k], lw=2)
+        ax.plot([d], [100 * (h - r) / r], "o", color=PHASE_COLORS[k], markerfacecolor="white", markersize=5)
+    if not first.any():
+        ax.text(0.5, 0.5, "every transition continuous", transform=ax.transAxes, ha="center", fontsize=8)
+    ax.set_xlabel("opening Ψ (degrees)")
+    if ax.get_subplotspec().is_first_col():
+        ax.set_ylabel("gap (%)")
+
+
+def _phase_handles(ds) -> list:
+    """The legend of :func:`phase_diagram`: the orders shown, the kinds of transition, no transition."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    present = sorted({int(k) for k in np.unique(ds.transition_order.values) if k})
+    handles = [Patch(color=PHASE_FILLS[k], label=ORDER_NAME[k]) for k in present]
+    handles += [
+        Line2D([], [], marker="o", color="k", linestyle="", label="continuous"),
+        Line2D([], [], marker="o", color="k", markerfacecolor="white", linestyle="", label="first order"),
+    ]
+    missing = (ds.transition_order.values == 0) | ~np.isfinite(ds.transition_density.values)
+    if missing.any():
+        handles.append(Line2D([], [], marker="x", color="0.4", linestyle="", label="no transition"))
+    if _parsons_lee_differs(ds):
+        handles.append(Line2D([], [], color="0.35", ls="--", label="Parsons-Lee"))
+    return handles
