@@ -38,7 +38,7 @@ def test_a_component_that_parts_from_another_is_an_event_and_one_no_longer_liste
     whole = _found(_component(0.10, (-0.6, 0.5, -0.3, 0.3), (-0.4, 0.0)))
     parted = _found(_component(0.10, *BODY), _component(0.03, *LENS))
     (step,) = steps_between(whole, parted)
-    assert (step.kind, step.what) == ("event", "parts from the one it meets")
+    assert (step.kind, step.what) == ("event", "parts in two")
     (step,) = steps_between(parted, _found(_component(0.09, *BODY)))  # the lens is listed no more: its depth
     assert step.kind == "crossing"  # passed ε + rim on its way below ε (not a join: the body's box lacks it)
 
@@ -47,7 +47,7 @@ def test_two_components_that_join_are_an_event():
     apart = _found(_component(0.10, *BODY), _component(0.03, (-0.05, 0.3, -0.05, 0.05), (0.1, 0.0)))
     joined = _found(_component(0.11, (-0.6, 0.3, -0.3, 0.3), (-0.35, 0.0)))
     (step,) = steps_between(apart, joined)
-    assert (step.kind, step.what) == ("event", "joins the one it meets")
+    assert (step.kind, step.what) == ("event", "joins another")
 
 
 def test_the_end_of_a_depth_curve_is_where_the_fitted_law_reaches_zero():

@@ -18,7 +18,10 @@ from .certified import Certified
 
 __all__ = ["CountCache", "default_folder"]
 
-ENGINE = ("certified.py", "_certify", "kernels", "pair.py", "shape.py", "orientations.py")
+ENGINE = (
+    "certified.py", "_certify", "pair.py", "shape.py", "orientations.py", "checks.py",
+    *(f"kernels/{name}.py" for name in ("common", "orientations", "runs", "tips", "depth", "cells")),
+)  # fmt: skip
 
 
 @functools.cache

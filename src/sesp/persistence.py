@@ -134,14 +134,14 @@ def steps_between(before, after) -> list:
         if a[i].counted:
             into = joined.get(i)
             if into is not None and b[into].counted:
-                steps.append(Step("event", "joins the one it meets", a[i], b[into]))
+                steps.append(Step("event", "joins another", a[i], b[into]))
             else:
                 steps.append(Step("crossing", "passes below ε + rim and is no longer listed", a[i], None))
     for j in sorted(set(range(len(b))) - paired_j):
         if b[j].counted:
             source = parted.get(j)
             if source is not None and a[source].counted:
-                steps.append(Step("event", "parts from the one it meets", a[source], b[j]))
+                steps.append(Step("event", "parts in two", a[source], b[j]))
             else:
                 steps.append(Step("crossing", "is listed and passes above ε + rim", None, b[j]))
     return steps

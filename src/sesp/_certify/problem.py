@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..kernels import depth as depth_kernels
-from ..kernels.orientations import chunk_boxes, chunk_count, radial_spans
+from ..kernels.common import chunk_boxes, chunk_count
+from ..kernels.orientations import radial_spans
 from ..pair import Pair
 from .settings import Settings
 

@@ -87,3 +87,28 @@ def find_root(parent, a):
         parent[a] = parent[parent[a]]
         a = parent[a]
     return a
+
+
+CHUNK = 16  # segments per bounding box of a polyline's runs (cost only: a run whose box is far is skipped whole)
+
+
+@njit(**JIT)
+def chunk_boxes(v, out):
+    """Write to ``out`` (xmin, xmax, ymin, ymax) of each run of ``CHUNK`` segments of the polyline ``v``."""
+    for c in range(out.shape[0]):
+        lo = c * CHUNK
+        hi = min(lo + CHUNK, v.shape[0] - 1)
+        out[c, 0] = out[c, 1] = v[lo, 0]
+        out[c, 2] = out[c, 3] = v[lo, 1]
+        for k in range(lo + 1, hi + 1):
+            out[c, 0] = min(out[c, 0], v[k, 0])
+            out[c, 1] = max(out[c, 1], v[k, 0])
+            out[c, 2] = min(out[c, 2], v[k, 1])
+            out[c, 3] = max(out[c, 3], v[k, 1])
+    return out
+
+
+@njit(**JIT)
+def chunk_count(v):
+    """Runs of ``CHUNK`` segments in the polyline ``v`` (the last may be shorter)."""
+    return (v.shape[0] - 2) // CHUNK + 1

@@ -32,8 +32,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, small_chunks
-from .orientations import TWO_PI, chunk_boxes, chunk_count, clearance
+from .common import JIT, chunk_boxes, chunk_count, small_chunks
+from .orientations import TWO_PI, clearance
 from .runs import (
     Curves,
     Moved,

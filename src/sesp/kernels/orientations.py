@@ -5,7 +5,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, point_segment_distance2, small_chunks, sort_first
+from .common import CHUNK, JIT, chunk_boxes, chunk_count, point_segment_distance2, small_chunks, sort_first
 
 TWO_PI = 2.0 * math.pi
 
@@ -331,31 +331,6 @@ def _segments_distance2(px, py, qx, qy, ax, ay, bx, by):
         point_segment_distance2(px, py, ax, ay, bx, by),
         point_segment_distance2(qx, qy, ax, ay, bx, by),
     )
-
-
-CHUNK = 16  # segments per bounding box in :func:`clearance`
-
-
-@njit(**JIT)
-def chunk_boxes(v, out):
-    """Write to ``out`` (xmin, xmax, ymin, ymax) of each run of ``CHUNK`` segments of the polyline ``v``."""
-    for c in range(out.shape[0]):
-        lo = c * CHUNK
-        hi = min(lo + CHUNK, v.shape[0] - 1)
-        out[c, 0] = out[c, 1] = v[lo, 0]
-        out[c, 2] = out[c, 3] = v[lo, 1]
-        for k in range(lo + 1, hi + 1):
-            out[c, 0] = min(out[c, 0], v[k, 0])
-            out[c, 1] = max(out[c, 1], v[k, 0])
-            out[c, 2] = min(out[c, 2], v[k, 1])
-            out[c, 3] = max(out[c, 3], v[k, 1])
-    return out
-
-
-@njit(**JIT)
-def chunk_count(v):
-    """Runs of ``CHUNK`` segments in the polyline ``v`` (the last may be shorter)."""
-    return (v.shape[0] - 2) // CHUNK + 1
 
 
 @njit(**JIT)

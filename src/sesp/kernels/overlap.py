@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .common import JIT, index_range, point_segment_distance2, rotate, segment_lengths
+from .common import CHUNK, JIT, chunk_boxes, chunk_count, index_range, point_segment_distance2, rotate, segment_lengths
 
 COUNT_MAX = 65535  # crossing counts saturate at the uint16 maximum
 
@@ -367,31 +367,6 @@ def crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out):
         out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, contact, count), COUNT_MAX)
 
 
-# segments per chunk of the state-by-state test (cost only: a chunk pair whose boxes are apart is skipped whole)
-CHUNK_SEGMENTS = 16
-
-
-@njit(**JIT)
-def chunk_count(v):
-    """Chunks of CHUNK_SEGMENTS segments (the last may be shorter) of the polyline ``v``."""
-    return (v.shape[0] - 2) // CHUNK_SEGMENTS + 1
-
-
-@njit(**JIT)
-def chunk_boxes(v, out):
-    """``out[c]`` = (xmin, xmax, ymin, ymax) of the vertices of chunk c (segments c·CHUNK_SEGMENTS onwards)."""
-    for c in range(out.shape[0]):
-        first = c * CHUNK_SEGMENTS
-        last = min(first + CHUNK_SEGMENTS, v.shape[0] - 1)
-        out[c, 0] = out[c, 1] = v[first, 0]
-        out[c, 2] = out[c, 3] = v[first, 1]
-        for k in range(first + 1, last + 1):
-            out[c, 0] = min(out[c, 0], v[k, 0])
-            out[c, 1] = max(out[c, 1], v[k, 0])
-            out[c, 2] = min(out[c, 2], v[k, 1])
-            out[c, 3] = max(out[c, 3], v[k, 1])
-
-
 @njit(**JIT)
 def meets_in_chunks(v1, dlen, box1, b2, flen, box2, tx, ty, delta, contact):
     """Whether any segment pair meets at translation (tx, ty): the pairs of :func:`crossings_at`, those of chunk
@@ -405,8 +380,8 @@ def meets_in_chunks(v1, dlen, box1, b2, flen, box2, tx, ty, delta, contact):
                 continue
             if ty < box1[ci, 2] - box2[cj, 3] - wide or ty > box1[ci, 3] - box2[cj, 2] + wide:
                 continue
-            for j in range(cj * CHUNK_SEGMENTS, min((cj + 1) * CHUNK_SEGMENTS, b2.shape[0] - 1)):
-                for i in range(ci * CHUNK_SEGMENTS, min((ci + 1) * CHUNK_SEGMENTS, v1.shape[0] - 1)):
+            for j in range(cj * CHUNK, min((cj + 1) * CHUNK, b2.shape[0] - 1)):
+                for i in range(ci * CHUNK, min((ci + 1) * CHUNK, v1.shape[0] - 1)):
                     cx, cy, dx, dy, fx, fy = pair_geometry(v1, b2, i, j)
                     xmin, xmax, ymin, ymax = pair_bounds(cx, cy, dx, dy, fx, fy, margin)
                     if tx < xmin or tx > xmax or ty < ymin or ty > ymax:

@@ -35,8 +35,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from .common import JIT, point_segment_distance2, sort_first
-from .orientations import CHUNK, TWO_PI, boxes_distance2, chunk_boxes, sinusoid_roots
+from .common import CHUNK, JIT, chunk_boxes, point_segment_distance2, sort_first
+from .orientations import TWO_PI, boxes_distance2, sinusoid_roots
 
 Curves = namedtuple("Curves", "v1 boxes1 v2 frame_boxes2 rin2 rout2 p1 p2")
 Moved = namedtuple("Moved", "w boxes2 cross")
