@@ -4,6 +4,7 @@ import functools
 import json
 import logging
 import math
+import time
 from dataclasses import fields, replace
 
 import matplotlib.pyplot as plt
@@ -74,6 +75,32 @@ def test_resolution_rim_and_base_are_checked():
         certified_components(_asp(90), base=2)
     with pytest.raises(ValueError, match="rim"):  # over Ψ too
         transitions(SeSP(n=2), resolution=1e-3, rim=1e-4, workers=1)
+
+
+@pytest.mark.parametrize(
+    "particle, kwargs, said",
+    [
+        (SeSP(n=2, aspect=1e5), {}, r"rim must be at least 0.2 b for this pair \(reach 2e\+05 b\)"),
+        (_asp(60), {"resolution": 1e-9, "rim": 1e-9}, r"rim must be at least 2e-06 b .* 2.0e\+09 of them"),
+    ],
+    ids=["a long particle", "a rim of 1e-9 b"],
+)
+def test_a_count_of_hours_is_refused_up_front_with_its_estimate(particle, kwargs, said):
+    """The count's cells along the edges are about the rim wide: a pair whose reach over the rim is beyond
+    checks.MAX_REACH_PER_RIM is refused before any work, saying what rim would do and how many cells it asked."""
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=said):
+        certified_components(particle, **kwargs)
+    assert time.perf_counter() - start < 5.0
+
+
+def test_a_particle_no_grid_can_hold_is_refused_at_construction():
+    with pytest.raises(ValueError, match=r"aspect must be in \[1e-05, 100000\]"):
+        SeSP(aspect=1e6)
+    with pytest.raises(ValueError, match=r"thickness must be in \[0, 100000\] b"):
+        SeSP(thickness=1e6)
+    with pytest.raises(ValueError, match="vertices must lie within 100000 b"):
+        Polyline([[0, 0], [2e5, 0]])
 
 
 def test_counts_unchanged_when_both_frames_turn_together():

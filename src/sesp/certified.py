@@ -48,7 +48,7 @@ from ._certify.leaves import IN, OUT, UNDECIDED
 from ._certify.pipeline import count
 from ._certify.problem import prepare
 from ._certify.settings import Settings
-from .checks import check_resolution
+from .checks import check_count_scale, check_resolution
 from .pair import as_pair
 from .shape import DEFAULT_SEGMENTS
 from .units import dimensionless, quantity
@@ -306,6 +306,7 @@ def certified_components(
     check_resolution(resolution, rim, base)
     pair = as_pair(particle, other, segments=segments)
     rim = max(resolution, RIM, pair.departure) if rim is None else rim
+    check_count_scale(pair.reach, rim)
     start = time.perf_counter()
     got = count(pair, resolution, rim, int(base), Settings() if settings is None else settings, progress)
     departure, bar = pair.departure, resolution + got.rim  # departure: measured once, on the dense arc table

@@ -18,9 +18,11 @@ __all__ = [
     "check_count",
     "check_segments",
     "check_opening",
+    "check_rtol",
     "check_choice",
     "check_samples",
     "check_resolution",
+    "check_count_scale",
 ]
 
 
@@ -41,16 +43,29 @@ def check_positive(name: str, value, unit: str = "") -> float:
 # Lengths sesp accepts, in b: the arithmetic of the kernels (cross products of coordinates, tolerances relative to
 # the pair's size) keeps its precision over this range; beyond it results would silently lose digits.
 MAX_LENGTH = 1e6
+# The largest particle, in b (its semi-axes, thickness and vertices): a pair of two, with its contact distance,
+# then reaches at most 3e5 b, so that its default grid (half-width about its reach) is one MAX_LENGTH accepts.
+MAX_PARTICLE = MAX_LENGTH / 10
+# The certified count's cells along the excluded set's edges are about the rim wide, so its cells number about
+# the pair's reach over the rim (n = 4 at 178° with reach 2.3 b and rim 1e-5 b: 2.4e5 cells); beyond this ratio a
+# count would run for more than about ten minutes on two cores.
+MAX_REACH_PER_RIM = 1e6
 # Shortest segment relative to the particle's size: shorter ones are rounding noise, not geometry.
 MIN_SEGMENT_RATIO = 1e-9
 
 
 def check_range(name: str, value, low: float, high: float, unit: str = "") -> float:
-    """A finite number in [low, high]."""
-    value = check_positive(name, value) if low > 0 else check_nonnegative(name, value)
-    if not low <= value <= high:
-        raise ValueError(f"{name} must be in [{low:g}, {high:g}]{unit}, got {value!r}")
-    return value
+    """A finite number in [low, high], as float (``unit`` said after the range)."""
+    said = f"{name} must be in [{low:g}, {high:g}]{unit}, got {value!r}"
+    if isinstance(value, bool):
+        raise ValueError(said)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(said) from None
+    if not (math.isfinite(number) and low <= number <= high):
+        raise ValueError(said)
+    return number
 
 
 def check_nonnegative(name: str, value, unit: str = "") -> float:
@@ -103,12 +118,27 @@ def check_segments(segments) -> int:
     return int(segments)
 
 
-def check_opening(opening) -> float:
-    """An opening Ψ in [0, 2π) radians."""
-    value = float(opening)
-    if not (math.isfinite(value) and 0.0 <= value < 2 * math.pi):
-        raise ValueError(f"opening must be in [0, 2π) radians, got {opening!r}")
+def check_opening(opening, *, degrees: bool = False) -> float:
+    """An opening Ψ in [0, 2π) radians (``degrees``: in [0, 360) degrees, as the command line takes it)."""
+    top, unit = (360.0, "degrees") if degrees else (2 * math.pi, "radians")
+    said = f"opening must be in [0, {'360' if degrees else '2π'}) {unit}, got {opening!r}"
+    try:
+        value = float(opening)
+    except (TypeError, ValueError):
+        raise ValueError(said) from None
+    if isinstance(opening, bool) or not (math.isfinite(value) and 0.0 <= value < top):
+        raise ValueError(said)
     return value
+
+
+RTOLS = (1e-12, 0.5)  # relative error bars a refinement can be asked for
+
+
+def check_rtol(rtol, what: str) -> float | None:
+    """A relative error bar to refine to, in [1e-12, 0.5] (``what``: of which quantity), or None (no refinement)."""
+    if rtol is None:
+        return None
+    return check_range("rtol", rtol, *RTOLS, f" (relative error bar of {what}) or None")
 
 
 def check_choice(name: str, value, choices) -> str:
@@ -129,6 +159,17 @@ def check_samples(samples) -> int:
 # it finished; above 1 b nothing of a particle of size ~1 b is resolved.
 RESOLUTIONS = (1e-9, 1.0)
 BASES = (4, 4096)
+
+
+def check_count_scale(reach: float, rim: float) -> None:
+    """Refuse, before any work, a certified count whose reach (b) over its rim (b) exceeds MAX_REACH_PER_RIM:
+    its cells would number about that ratio, more than about ten minutes of work."""
+    if reach / rim > MAX_REACH_PER_RIM:
+        raise ValueError(
+            f"rim must be at least {reach / MAX_REACH_PER_RIM:.3g} b for this pair (reach {reach:.3g} b): the count's"
+            f" cells along the edges are about the rim wide, so a rim of {rim:.3g} b would need about"
+            f" {reach / rim:.1e} of them (more than ten minutes); raise the rim (or the resolution)"
+        )
 
 
 def check_resolution(resolution, rim=None, base=None) -> None:

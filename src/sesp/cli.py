@@ -72,10 +72,10 @@ def _add_scan(sub):
 
 
 def _shape_from_args(args, opening_deg: float):
+    from .checks import check_opening
     from .shape import SeSP
 
-    if not (0.0 <= opening_deg < 360.0):
-        raise ValueError(f"--opening must be in [0, 360) degrees, got {opening_deg}")
+    check_opening(opening_deg, degrees=True)
     return SeSP(n=args.n, m=args.m, aspect=args.aspect, opening=math.radians(opening_deg), thickness=args.thickness)
 
 

@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from .checks import check_choice, check_count, check_positive
+from .checks import check_choice, check_count, check_positive, check_rtol
 from .dataset import base_attrs, cell_area, grid_attrs, grid_of, pair_attrs, pair_of
 from .exact import superellipse_area, superellipse_perimeter
 from .field import computed_slices, monte_carlo, resolve_grid, scan
@@ -468,8 +468,7 @@ def excluded_area(
     """
     if isinstance(particle, xr.Dataset | xr.DataArray):
         raise TypeError("excluded_area takes particles; the count of a stored field is lattice_excluded_area(ds)")
-    if rtol is not None and not (math.isfinite(rtol) and 0 < rtol < 1):
-        raise ValueError(f"rtol must be in (0, 1) (relative error of <A_ex>) or None, got {rtol!r}")
+    rtol = check_rtol(rtol, "<A_ex>")
     free = {name for name, value in (("segments", segments), ("nphi", nphi), ("rows", rows)) if value is None}
     settings = {
         "segments": check_count("segments", segments, 3, LARGEST["segments"]) if segments else START["segments"],

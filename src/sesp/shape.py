@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .checks import MAX_LENGTH, MIN_SEGMENT_RATIO, check_opening, check_positive, check_range, check_segments
+from .checks import MAX_PARTICLE, MIN_SEGMENT_RATIO, check_opening, check_positive, check_range, check_segments
 
 __all__ = ["SeSP", "Polyline", "as_polyline", "convex_hull", "DEFAULT_SEGMENTS"]
 
@@ -54,8 +54,8 @@ class Polyline:
             raise ValueError(f"vertices must hold at least 2 points, got {v.shape[0]}")
         if not np.all(np.isfinite(v)):
             raise ValueError("vertices must be finite (no NaN or inf)")
-        if np.abs(v).max() > MAX_LENGTH:
-            raise ValueError(f"vertices must lie within {MAX_LENGTH:g} b of the centre, got {np.abs(v).max():g}")
+        if np.abs(v).max() > MAX_PARTICLE:
+            raise ValueError(f"vertices must lie within {MAX_PARTICLE:g} b of the centre, got {np.abs(v).max():g}")
         seg = np.hypot(*np.diff(v, axis=0).T)
         shortest = MIN_SEGMENT_RATIO * max(float(np.ptp(v, axis=0).max()), float(np.abs(v).max()))
         if np.any(seg <= shortest):
@@ -64,7 +64,7 @@ class Polyline:
                 f"vertices {k} and {k + 1} coincide: segments must be longer than {MIN_SEGMENT_RATIO:g} of the"
                 f" particle's size ({shortest:.3g} b), got {seg[k]:.3g} b"
             )
-        self.thickness = check_range("thickness", thickness, 0.0, MAX_LENGTH, " b")
+        self.thickness = check_range("thickness", thickness, 0.0, MAX_PARTICLE, " b")
         v.flags.writeable = False
         self._vertices = v
 
@@ -210,9 +210,9 @@ class SeSP:
         object.__setattr__(self, "n", check_positive("n", self.n))
         m = self.n if self.m is None else check_positive("m", self.m)
         object.__setattr__(self, "m", m)
-        object.__setattr__(self, "aspect", check_range("aspect", self.aspect, 1 / MAX_LENGTH, MAX_LENGTH))
+        object.__setattr__(self, "aspect", check_range("aspect", self.aspect, 1 / MAX_PARTICLE, MAX_PARTICLE))
         object.__setattr__(self, "opening", check_opening(self.opening))
-        object.__setattr__(self, "thickness", check_range("thickness", self.thickness, 0.0, MAX_LENGTH, " b"))
+        object.__setattr__(self, "thickness", check_range("thickness", self.thickness, 0.0, MAX_PARTICLE, " b"))
 
     def closed(self) -> SeSP:
         """The same shape with no opening (Ψ = 0)."""

@@ -35,7 +35,7 @@ import numba
 import numpy as np
 import xarray as xr
 
-from .checks import check_choice, check_count, check_range
+from .checks import check_choice, check_count, check_rtol
 from .field import overlaps
 from .grid import available_memory
 from .kernels.overlap import crossing_field
@@ -207,7 +207,7 @@ def third_virial(
     >>> round(float(b.reduced_third_virial), 3)  # parallel hard squares: 3/4
     0.75
     """
-    rtol = None if rtol is None else check_range("rtol", rtol, 1e-9, 0.5, " (relative error bar of B3)")
+    rtol = check_rtol(rtol, "B3")
     fixed = check_choice("orientations", orientations, ORIENTATIONS) == "fixed"
     free = {name for name, value in (("nodes", nodes), ("nphi", nphi)) if value is None}
     free -= {"nphi"} if fixed else set()
