@@ -46,9 +46,9 @@ MAX_LENGTH = 1e6
 # The largest particle, in b (its semi-axes, thickness and vertices): a pair of two, with its contact distance,
 # then reaches at most 3e5 b, so that its default grid (half-width about its reach) is one MAX_LENGTH accepts.
 MAX_PARTICLE = MAX_LENGTH / 10
-# The certified count's cells along the excluded set's edges are about the rim wide, so its cells number about
-# the pair's reach over the rim (n = 4 at 178° with reach 2.3 b and rim 1e-5 b: 2.4e5 cells); beyond this ratio a
-# count would run for more than about ten minutes on two cores.
+# The certified count's cells along the excluded set's edges are about the rim wide, so they number from about
+# the pair's reach over the rim to ten times it (n = 4, reach 2.3 b, rim 1e-5 b: 2.4e5 cells at 178°, 1.7e6 at
+# 170°); beyond this ratio a count needs millions of cells: tens of minutes or more on two cores.
 MAX_REACH_PER_RIM = 1e6
 # Shortest segment relative to the particle's size: shorter ones are rounding noise, not geometry.
 MIN_SEGMENT_RATIO = 1e-9
@@ -85,7 +85,10 @@ def check_nonnegative(name: str, value, unit: str = "") -> float:
 def check_finite(name: str, values, unit: str = "", at=None) -> np.ndarray:
     """An array of finite numbers (no NaN, no inf), as float; ``at`` (a format and the values along the first
     axis, e.g. ``("phi = {:.6g}°", degrees)``) says where the first non-finite value is."""
-    array = np.asarray(values, dtype=float)
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be finite numbers{unit}, got {values!r}") from None
     bad = ~np.isfinite(array)
     if bad.any():
         where = ""
@@ -163,12 +166,12 @@ BASES = (4, 4096)
 
 def check_count_scale(reach: float, rim: float) -> None:
     """Refuse, before any work, a certified count whose reach (b) over its rim (b) exceeds MAX_REACH_PER_RIM:
-    its cells would number about that ratio, more than about ten minutes of work."""
+    its cells would number that ratio or more, tens of minutes of work or more."""
     if reach / rim > MAX_REACH_PER_RIM:
         raise ValueError(
             f"rim must be at least {reach / MAX_REACH_PER_RIM:.3g} b for this pair (reach {reach:.3g} b): the count's"
             f" cells along the edges are about the rim wide, so a rim of {rim:.3g} b would need about"
-            f" {reach / rim:.1e} of them (more than ten minutes); raise the rim (or the resolution)"
+            f" {reach / rim:.1e} of them or more (tens of minutes or more); raise the rim (or the resolution)"
         )
 
 

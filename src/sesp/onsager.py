@@ -55,7 +55,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from .checks import check_count, check_finite, check_nonnegative, check_positive
+from .checks import check_count, check_finite, check_nonnegative, check_positive, check_range
 from .units import link_errors, quantity
 
 __all__ = [
@@ -402,6 +402,7 @@ def onsager_variables(excluded_area, order: int = 8, orders=(1, 2, 3, 4, 6), *, 
 SOLVER_TOLERANCE = 1e-10  # largest change of ψ (rad⁻¹) at which the fixed-point iteration stops
 SOLVER_STEPS = 20_000
 ORDERED = 1e-6  # |⟨cos kφ⟩| above which a solution counts as ordered
+MAX_DENSITY = 1e6  # b⁻²: the densest state solved for (for particles of size ~b, far past any ordering)
 
 
 def _state(psi, values, density, dphi, particle_area: float = 0.0) -> dict:
@@ -502,7 +503,7 @@ def onsager_solution(
     _check_phi(area)
     if area.ndim != 1:
         raise ValueError(f"excluded_area must be A_ex(φ) alone (dims ('phi',)), got dims {area.dims}")
-    density = check_positive("density", density, " (b^-2)")
+    density = check_range("density", density, 1e-12, MAX_DENSITY, " b^-2")
     strength = check_nonnegative("strength", strength)
     order = check_count("order", order, 1, area.sizes["phi"] // 2, " (the fold of the seed)")
     values = area.values.astype(float)
