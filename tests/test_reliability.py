@@ -507,3 +507,77 @@ def test_a_reading_process_that_does_not_say_ready_is_no_verdict_on_a_file(tmp_p
     with pytest.raises(RuntimeError, match="did not start") as raised:
         fileprobe.probe([tmp_path / "any.nc"], timeout=0.5)
     assert why in str(raised.value)
+
+
+# A sweep that keeps every scalar answer: components, phases and B₃ (4 points of a few seconds each)
+RICH_SWEEP = (
+    SMALL.replace('keep = ["excluded_area", "classes"]',
+                  'keep = ["excluded_area", "classes", "topology", "phases", "third_virial"]\n'
+                  "resolution = 1e-2\nthird_virial_rtol = 0.5")
+    .replace("n = [2, 8]", "n = [2]")
+    .replace("nphi = 16", "nphi = 32")
+)  # fmt: skip
+
+
+@pytest.mark.slow
+def test_a_sweep_keeping_topology_phases_and_b3_survives_kills_ctrl_c_and_a_damaged_point(tmp_path):
+    """SIGKILL at random moments (3 times; 20 with SESP_FULL_TESTS=1), then Ctrl-C to the runner, then one
+    finished point file replaced by one that crashes the netCDF library: the rerun sets it aside, recomputes
+    it, and ends with the results of an uninterrupted run, bit for bit."""
+    path = tmp_path / "s.toml"
+    path.write_text(RICH_SWEEP.format(out="rich"))
+    reference = _digest(run(path, output=tmp_path / "reference", workers=1, progress=False))
+    folder, rng, kills = tmp_path / "rich", random.Random(3), 0
+    while kills < (20 if FULL else 3):
+        proc = _sweep_process(path, workers=2)
+        _wait_for_kill_moment(proc, folder, rng)
+        if proc.poll() is not None:
+            break
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        kills += 1
+        assert _wait_until_gone(proc.pid) == []
+    proc = _sweep_process(path, workers=2, stderr=subprocess.PIPE,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
+    _wait_for_kill_moment(proc, folder, rng)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode in (0, 130) and b"Traceback" not in err
+    finished = _point_files(folder)
+    if finished:
+        finished[0].write_bytes(CRASHES_HDF5.read_bytes())
+    assert _digest(run(path, workers=2, progress=False)) == reference
+    assert len(list(folder.glob("*.damaged"))) == (1 if finished else 0)
+    assert not list(folder.glob(".*.lock")) and not list(folder.glob(".*.tmp"))
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_a_topology_table_keeps_what_was_counted_and_a_rerun_resumes(tmp_path):
+    """`sesp topology` over Ψ, SIGINT once the first run of openings is printed: exit 130 with the partial table
+    and where the counts are kept; the same command then ends with the table of an uninterrupted run."""
+    command = [sys.executable, "-m", "sesp", "topology", "--n", "2", "--opening-range", "150", "200", "--step", "10",
+               "--width", "1", "--resolution", "1e-2", "--workers", "1"]  # fmt: skip
+    proc = subprocess.Popen([*command, "--cache", str(tmp_path / "counts")], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
+    said = []
+    for line in proc.stderr:  # each run of equal counts is said there as soon as it is settled
+        said.append(line)
+        if line.startswith("counted:"):
+            break
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    err = "".join(said) + err
+    assert proc.returncode == 130 and "Traceback" not in err, err
+    assert "interrupted; the counts made are kept in" in err
+    cached = len(list((tmp_path / "counts").rglob("*.json")))
+    assert cached >= 1
+    resumed = subprocess.run([*command, "-q", "--cache", str(tmp_path / "counts")], capture_output=True, text=True,
+                             timeout=600)  # fmt: skip
+    fresh = subprocess.run([*command, "-q", "--no-cache"], capture_output=True, text=True, timeout=600)
+    assert resumed.returncode == fresh.returncode == 0
+
+    def table(text):  # the lines of the table, its timing aside
+        return [line for line in text.splitlines() if "openings counted" not in line]
+
+    assert table(resumed.stdout) == table(fresh.stdout)

@@ -73,7 +73,9 @@ def test_radians_and_degrees_name_the_same_points(tmp_path):
         (("segments = 24", "segments = 2.5"), ["integers"]),
         (("nx = 24", "nx = 2"), ["nx"]),
         (('"classes"]', '"classes", "pictures"]'), ["keep"]),
-        (('"classes"]', '"classes"]\nresolution = -1'), ["resolution", "[1e-9, 1] b"]),
+        (('"classes"]', '"classes"]\nresolution = -1'), ["[output] resolution must be in [1e-09, 1] b"]),
+        (("rtol = 1e-3", "rtol = 2.0"), ["[output] rtol must be in [1e-12, 0.5]"]),
+        (('"classes"]', '"classes"]\nthird_virial_rtol = 0'), ["[output] third_virial_rtol must be in"]),
         (("nx = 24", "nx = 24 24"), ["not valid TOML"]),
     ],
 )

@@ -25,7 +25,7 @@ from .reductions import EntangledAreaByPhi, ExcludedAreaByPhi, StoredField
 from .regions import PositionSummary
 from .shape import DEFAULT_SEGMENTS
 from .units import link_errors, quantity
-from .virial import third_virial
+from .virial import B3_RTOL, third_virial
 
 __all__ = ["analyze", "check_memory", "KEEP", "COMPONENTS_KEPT"]
 
@@ -76,6 +76,7 @@ def analyze(
     keep=("excluded_area",),
     resolution: float = RESOLUTION,
     rtol: float = RTOL,
+    third_virial_rtol: float | None = B3_RTOL,
     engine: str = "raster",
     memory_limit: int | None = None,
     progress: bool = False,
@@ -134,8 +135,8 @@ def analyze(
           :func:`sesp.onsager.particle_area`; equal to the second-virial ones
           for a thin particle, NaN for two different particles);
         * ``"third_virial"``: ``third_virial_coefficient`` ± error (b⁴) and
-          ``reduced_third_virial`` B₃/B₂² (:func:`sesp.virial.third_virial` at its
-          defaults: refined until the bar is at most 1e-3 · |B₃|);
+          ``reduced_third_virial`` B₃/B₂² (:func:`sesp.virial.third_virial`, refined
+          until the bar is at most ``third_virial_rtol`` · |B₃|, default 1e-3);
         * ``"allowed"``, ``"crossings"``, ``"entangled"``: the fields over
           (phi, y, x), as :func:`sesp.scan` stores them.
     engine : {"raster", "direct"}
@@ -182,7 +183,7 @@ def analyze(
     if "phases" in keep:
         _add_phases(ds, best, pair)
     if "third_virial" in keep:
-        found = third_virial(pair.particle, pair.other, segments=pair.segments)
+        found = third_virial(pair.particle, pair.other, segments=pair.segments, rtol=third_virial_rtol)
         for name in ("third_virial_coefficient", "third_virial_coefficient_error", "reduced_third_virial"):
             ds[name] = found[name]
     if "classes" not in keep:

@@ -43,6 +43,7 @@ the shape keys, in ``[particle]`` or ``[other]``:
     keep = ["excluded_area", "classes", "topology"]   # and/or "phases", "third_virial", "allowed" (the field)
     resolution = 1e-5           # b: the resolution of the topology count (default 1e-5)
     rtol = 1e-5                 # relative error bar of <A_ex> (default 1e-5, as `sesp area`)
+    third_virial_rtol = 1e-3    # relative error bar of B3, where kept (default 1e-3, as `sesp virial`)
 
 The shortest sweep file names its particles alone:
 
@@ -79,6 +80,7 @@ import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep, check_memory
 from .certified import RESOLUTION
+from .checks import RTOLS, check_range, check_resolution, check_rtol
 from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
 from .fileprobe import probe
 from .grid import Grid
@@ -90,6 +92,7 @@ from .progress import progress_bar
 from .regions import summarize
 from .shape import DEFAULT_SEGMENTS, Polyline, SeSP
 from .units import link_errors
+from .virial import B3_RTOL
 from .workers import start_pool, stop_pool
 
 __all__ = ["SweepSpec", "SweepPoint", "load_spec", "run", "collect", "compute_point", "KEEP"]
@@ -109,7 +112,7 @@ SCHEMA = {
     },
     "other": {"n": float, "m": float, "aspect": float, "opening": float, "thickness": float, "vertices": list},
     "grid": {"nx": int, "ny": int, "nphi": int},
-    "output": {"keep": list, "resolution": float, "rtol": float},
+    "output": {"keep": list, "resolution": float, "rtol": float, "third_virial_rtol": float},
 }
 REQUIRED = {"particle": ("n", "opening")}
 # What a sweep file may leave out: the output folder (results/<file stem>, beside the file), degrees, this grid
@@ -225,6 +228,7 @@ class SweepSpec:
     source: str
     resolution: float = RESOLUTION
     rtol: float = RTOL
+    third_virial_rtol: float = B3_RTOL
 
     @property
     def dims(self) -> list[str]:
@@ -259,7 +263,16 @@ class SweepSpec:
             other = {k[6:]: values[k] for k in axes if k.startswith("other_")} or None
             index = tuple(axes[d].index(values[d]) for d in self.dims)
             out.append(
-                SweepPoint(particle, other, dict(self.grid), tuple(self.keep), index, self.resolution, self.rtol)
+                SweepPoint(
+                    particle,
+                    other,
+                    dict(self.grid),
+                    tuple(self.keep),
+                    index,
+                    self.resolution,
+                    self.rtol,
+                    self.third_virial_rtol,
+                )  # fmt: skip
             )
         return out
 
@@ -279,6 +292,7 @@ class SweepPoint:
     index: tuple = ()
     resolution: float = RESOLUTION  # b: of the topology count, where kept
     rtol: float = RTOL  # relative error bar of <A_ex>
+    third_virial_rtol: float = B3_RTOL  # relative error bar of B₃, where kept
 
     def payload(self) -> dict:
         """What the point's results depend on (the input of :attr:`hash`)."""
@@ -291,6 +305,8 @@ class SweepPoint:
         }
         if "topology" in self.keep:
             payload["resolution"] = self.resolution
+        if "third_virial" in self.keep:
+            payload["third_virial_rtol"] = self.third_virial_rtol
         return payload
 
     @property
@@ -335,7 +351,8 @@ def _particle(params: dict):
 
 def point_hash(payload: dict) -> str:
     """Stable 16-hex-digit name of a parameter point (angles in radians)."""
-    payload = {k: payload[k] for k in ("particle", "other", "grid", "keep", "resolution", "rtol") if k in payload}
+    names = ("particle", "other", "grid", "keep", "resolution", "rtol", "third_virial_rtol")
+    payload = {k: payload[k] for k in names if k in payload}
     payload["format"] = POINT_FORMAT
     text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:16]
@@ -399,12 +416,15 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
         keep = check_keep(doc.get("output", {}).get("keep", ["excluded_area"]))
     except ValueError as err:
         raise SweepError(f"{path}: [output] {err}") from None
-    resolution = doc.get("output", {}).get("resolution", RESOLUTION)
-    if not (isinstance(resolution, (int, float)) and not isinstance(resolution, bool) and 1e-9 <= resolution <= 1):
-        raise SweepError(f"{path}: [output] resolution must be a length in [1e-9, 1] b, got {resolution!r}")
-    rtol = doc.get("output", {}).get("rtol", RTOL)
-    if not (isinstance(rtol, (int, float)) and not isinstance(rtol, bool) and 1e-9 <= rtol < 1):
-        raise SweepError(f"{path}: [output] rtol must be a relative error in [1e-9, 1), got {rtol!r}")
+    wanted = doc.get("output", {})
+    resolution, rtol = wanted.get("resolution", RESOLUTION), wanted.get("rtol", RTOL)
+    third_virial_rtol = wanted.get("third_virial_rtol", B3_RTOL)
+    try:  # the checks Python and the command line use
+        check_resolution(resolution)
+        check_rtol(rtol, "<A_ex>")
+        third_virial_rtol = check_range("third_virial_rtol", third_virial_rtol, *RTOLS, " (relative error bar of B3)")
+    except ValueError as err:
+        raise SweepError(f"{path}: [output] {err}") from None
     spec = SweepSpec(
         name=_string(path, "name", head.get("name", path.stem)),
         output=_output_folder(path, head.get("output", f"results/{path.stem}"), output),
@@ -415,6 +435,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
         source=text,
         resolution=float(resolution),
         rtol=float(rtol),
+        third_virial_rtol=float(third_virial_rtol),
     )
     _check_name(path, spec.name)
     total = math.prod(len(v) for part in (spec.particle, spec.other or {}) for v in part.values())
@@ -456,7 +477,8 @@ def common_half_width(spec: SweepSpec) -> float:
 
 def compute_point(point: SweepPoint) -> xr.Dataset:
     """The results of one parameter point (:func:`sesp.analyze`), labelled as a sweep point."""
-    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep, resolution=point.resolution, rtol=point.rtol)
+    out = analyze(point.pair(), Grid(**point.grid), keep=point.keep, resolution=point.resolution, rtol=point.rtol,
+                  third_virial_rtol=point.third_virial_rtol)  # fmt: skip
     # a SeSP is rebuilt from its parameters; a polyline's vertices must stay
     rebuilt = [f"{p}_vertices" for p in ("particle", "other") if out.attrs[f"{p}_kind"] == "SeSP"]
     out = out.drop_vars(rebuilt)

@@ -30,13 +30,30 @@ def start_pool(
     ctx = multiprocessing.get_context("spawn")  # numba's thread pool is not fork-safe
     threads = numba.get_num_threads() if threads is None else threads
     setup = (threads, passive, os.getpid(), on_orphan, initializer, initargs)
-    return ProcessPoolExecutor(workers, mp_context=ctx, initializer=_setup, initargs=setup)
+    return _Pool(workers, mp_context=ctx, initializer=_setup, initargs=setup)
+
+
+class _Pool(ProcessPoolExecutor):
+    """A process pool whose workers start with SIGINT ignored (they are started by ``submit``, and inherit it):
+    a Ctrl-C that reaches a worker while it imports sesp is not a traceback. :func:`_setup` restores the
+    default once the worker is ready; the runner ignores SIGINT only for the moment a submit takes."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        if threading.current_thread() is not threading.main_thread():
+            return super().submit(fn, *args, **kwargs)
+        before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+        try:
+            return super().submit(fn, *args, **kwargs)
+        finally:
+            signal.signal(signal.SIGINT, before)
 
 
 def _setup(threads, passive, runner, on_orphan, initializer, initargs):
     if passive:  # OpenMP reads it once, when numba starts its threads (in set_num_threads): so before that
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
     numba.set_num_threads(threads)
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:  # ignored while it started (_Pool)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if initializer is not None:  # first: the watch's cleanup may rely on it (the sweep's SIGINT handler)
         initializer(*initargs)
     watch = threading.Thread(
