@@ -594,7 +594,7 @@ def set_aside_unreadable(folder: Path, points) -> list[Path]:
 
 
 def warm_up():
-    """Compile (or load from cache) every kernel once, before fanning out."""
+    """Compile (or load from cache) the field's kernels once, on a dask worker before it takes points."""
     summarize(SeSP(n=2, opening=1.0), Grid(8, nphi=2), segments=4, entangled=True)
     return os.getpid()
 
@@ -654,10 +654,11 @@ def _execute_local(todo, folder, workers, bar):
         return
     workers = min(workers, len(todo))
     pool = start_pool(workers, _init_worker, on_orphan=_leave_orphaned)
-    try:
-        for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in todo]):
-            future.result()
-            bar.update()
+    try:  # the first point alone: it compiles (or loads) the kernels the points use, once, for every worker
+        for batch in (todo[:1], todo[1:]):
+            for future in as_completed([pool.submit(_point_in_worker, p, str(folder)) for p in batch]):
+                future.result()
+                bar.update()
     except BaseException:  # Ctrl-C, or a failed point: stop now, not after every queued point
         stop_pool(pool)
         remove_stale_temporaries(folder, todo)
@@ -783,7 +784,6 @@ def run(
     remove_stale_temporaries(folder, todo)  # left by a runner that was killed
     log.info("%s: %d points, %d done, %d to compute", spec.name, len(points), len(points) - len(todo), len(todo))
     if todo:
-        warm_up()
         done = len(points) - len(todo)
         with progress_bar(len(points), progress, spec.name, unit="point", initial=done, leave=True) as bar:
             if scheduler:
