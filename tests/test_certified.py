@@ -103,6 +103,7 @@ def test_a_particle_no_grid_can_hold_is_refused_at_construction():
         Polyline([[0, 0], [2e5, 0]])
 
 
+@pytest.mark.slow
 def test_counts_unchanged_when_both_frames_turn_together():
     """Turning the particle's own frame by α turns the whole excluded set by α: the count is the same, and the
     components now lie on no axis."""
@@ -117,6 +118,7 @@ def test_counts_unchanged_when_both_frames_turn_together():
     assert [c.depth for c in plain] == pytest.approx([c.depth for c in rotated], abs=2e-3)
 
 
+@pytest.mark.slow
 def test_a_mirror_symmetric_pair_is_decided_above_the_axis_and_counts_as_its_polylines_do():
     """A SeSP pair is symmetric about the x axis ((t, φ) overlaps where (Mt, −φ) does): each leaf below the axis
     is decided as its mirror image, so the cells are mirror images of each other, status and all; the same
@@ -264,6 +266,7 @@ def test_the_walk_around_phi_proves_the_same_wherever_it_begins():
     assert depth_kernels.certified_deep(curves, x, y, 0.5, 1024, start=starts).tolist() == [0] * 7
 
 
+@pytest.mark.slow
 def test_cli_one_opening_prints_json_with_parameters_and_units_and_draws_the_components(tmp_path, capsys):
     png = tmp_path / "components.png"
     command = ["topology", "--n", "2", "--opening", "90", "--resolution", "1e-3", "--base", "32", "--quiet"]

@@ -210,9 +210,9 @@ def test_phases_prints_the_instabilities_and_first_transition_python_computes(ca
     same floats as sesp.onsager's functions; n = 8 at 90° orders nematically, continuously."""
     from sesp.onsager import first_transition, instabilities
 
-    assert main(["-q", "phases", "--n", "8", "--opening", "90", "--rtol", "1e-3", "--json"]) == 0
+    assert main(["-q", "phases", "--n", "8", "--opening", "90", "--rtol", "1e-2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    area = sesp.excluded_area(sesp.SeSP(n=8, opening=math.radians(90)), rtol=1e-3)
+    area = sesp.excluded_area(sesp.SeSP(n=8, opening=math.radians(90)), rtol=1e-2)
     first, found = first_transition(area), instabilities(area)
     assert out["first_transition"]["kind"] == "continuous" and out["first_transition"]["order"] == 2
     assert out["first_transition"]["density"] == float(first.transition_density)
@@ -220,7 +220,7 @@ def test_phases_prints_the_instabilities_and_first_transition_python_computes(ca
     nematic = [row for row in out["instabilities"] if row["order"] == 2][0]
     assert nematic["density"] == float(found.density.sel(order=2)) == out["first_transition"]["density"]
     assert [row["density"] for row in out["instabilities"] if row["order"] == 1] == [None]  # a_1 > 0: never
-    main(["-q", "phases", "--n", "8", "--opening", "90", "--rtol", "1e-3"])
+    main(["-q", "phases", "--n", "8", "--opening", "90", "--rtol", "1e-2"])
     assert "nematic (k = 2), continuous, at rho = " in capsys.readouterr().out
 
 

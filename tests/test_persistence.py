@@ -83,6 +83,7 @@ def test_the_asps_components_over_psi_their_kinds_and_where_the_lens_ends():
     assert record["transitions"][0]["kind"] == "crossing" and len(record["components"]) == 2
 
 
+@pytest.mark.slow
 def test_counts_are_kept_in_a_cache_a_rerun_reads_them_and_a_damaged_one_is_counted_again(tmp_path, monkeypatch):
     from sesp import topology
 
@@ -123,6 +124,7 @@ def test_ctrl_c_during_a_search_gives_what_was_counted(monkeypatch):
     assert len(stopped.value.partial.counts) == 2
 
 
+@pytest.mark.slow
 def test_each_settled_run_is_told_in_order():
     runs = []
     transitions(SeSP(n=2), (math.radians(140), math.radians(200)), step=math.radians(10), width=math.radians(10),

@@ -84,6 +84,7 @@ def test_allowed_map_from_summary_has_class_outlines(scan_ds, tmp_path):
         plot.allowed_map(position_summary(scan_ds), style="dots")
 
 
+@pytest.mark.slow
 def test_excluded_area_curve_and_panels(sweep_ds, tmp_path):
     assert_not_blank(_save(plot.excluded_area_curve(sweep_ds), tmp_path / "c.png"))
     fig = plot.excluded_area_panels(sweep_ds)

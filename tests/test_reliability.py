@@ -158,6 +158,7 @@ def _limit_file_size():
     resource.setrlimit(resource.RLIMIT_FSIZE, (8_000, 8_000))
 
 
+@pytest.mark.slow
 def test_disk_full_leaves_no_file_taken_as_finished(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(
