@@ -4,10 +4,37 @@
 grid or grid parity for a rule that a faster test already checks) and the fault tests at their full counts.
 """
 
+import subprocess
+import sys
+
 import numba
 import pytest
 
 from cases import FULL
+
+# Kernels compiled (or loaded from numba's cache) before the test processes start, in two processes side by side:
+# the certified count's, and the field's, A_ex's and B₃'s. Without it each test process compiles what its first
+# tests need, and both compile the certified kernels at the same time (a cold CI run: two tests of 2-13 s took
+# 119 and 145 s).
+WARM_UP = (
+    "import math, sesp; sesp.certified_components(sesp.SeSP(n=4, opening=math.radians(170)), resolution=1e-2)",
+    "import math, sesp; from sesp.virial import third_virial;"
+    " sesp.analyze(sesp.SeSP(n=2, opening=1.0), sesp.Grid(16, nphi=8), segments=16,"
+    " keep=['excluded_area', 'classes', 'allowed', 'crossings', 'entangled']);"
+    " sesp.excluded_area(sesp.SeSP(n=8, opening=1.0), rtol=1e-2);"
+    " third_virial(sesp.SeSP(n=2, opening=1.0), rtol=None, nodes=21, nphi=2, segments=16);"
+    " sesp.overlaps(sesp.SeSP(), None, [0.0], [0.0], [0.0])",
+)
+
+
+def pytest_configure(config):
+    """Warm numba's cache once, before the test processes start (not in them, not for one process alone)."""
+    if hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None):
+        return
+    runs = [subprocess.Popen([sys.executable, "-c", code]) for code in WARM_UP]
+    for run in runs:
+        run.wait()
+
 
 SLOW_OVER = 5.0  # s on an idle 2-core machine: a test that takes longer is marked slow
 FAST_UNDER = 1.0  # s: a test marked slow that takes less is not

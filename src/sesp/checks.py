@@ -26,18 +26,25 @@ __all__ = [
 ]
 
 
-def check_positive(name: str, value, unit: str = "") -> float:
-    """A finite number > 0, as float (``unit``, e.g. " (b^-2)", said after the range)."""
-    said = f"{name} must be a finite number > 0{unit}, got {value!r}"
+def _number(value, said: str) -> float:
+    """``value`` as a finite float, or ``ValueError(said)``: a bool, a string or NaN is no number."""
     if isinstance(value, bool):
         raise ValueError(said)
     try:
-        value = float(value)
+        number = float(value)
     except (TypeError, ValueError):
         raise ValueError(said) from None
-    if not math.isfinite(value) or value <= 0:
+    if not math.isfinite(number):
         raise ValueError(said)
-    return value
+    return number
+
+
+def check_positive(name: str, value, unit: str = "") -> float:
+    """A finite number > 0, as float (``unit``, e.g. " (b^-2)", said after the range)."""
+    said = f"{name} must be a finite number > 0{unit}, got {value!r}"
+    if _number(value, said) <= 0:
+        raise ValueError(said)
+    return float(value)
 
 
 # Lengths sesp accepts, in b: the arithmetic of the kernels (cross products of coordinates, tolerances relative to
@@ -57,29 +64,17 @@ MIN_SEGMENT_RATIO = 1e-9
 def check_range(name: str, value, low: float, high: float, unit: str = "") -> float:
     """A finite number in [low, high], as float (``unit`` said after the range)."""
     said = f"{name} must be in [{low:g}, {high:g}]{unit}, got {value!r}"
-    if isinstance(value, bool):
+    if not low <= _number(value, said) <= high:
         raise ValueError(said)
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(said) from None
-    if not (math.isfinite(number) and low <= number <= high):
-        raise ValueError(said)
-    return number
+    return float(value)
 
 
 def check_nonnegative(name: str, value, unit: str = "") -> float:
     """A finite number >= 0, as float (``unit`` said after the range)."""
     said = f"{name} must be a finite number >= 0{unit}, got {value!r}"
-    if isinstance(value, bool):
+    if _number(value, said) < 0:
         raise ValueError(said)
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(said) from None
-    if not math.isfinite(value) or value < 0:
-        raise ValueError(said)
-    return value
+    return float(value)
 
 
 def check_finite(name: str, values, unit: str = "", at=None) -> np.ndarray:

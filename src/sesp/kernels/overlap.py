@@ -354,16 +354,23 @@ def shifted_overlap_counts(v1, v2, cos_phi, sin_phi, xs, ys, shifts, delta, cont
         out[k] = np.count_nonzero(field)
 
 
+@njit(**JIT)
+def turned(v2, phi):
+    """The polyline ``v2`` turned by ``phi`` (rad), and its segment lengths."""
+    b2 = np.empty_like(v2)
+    rotate(v2, math.cos(phi), math.sin(phi), b2)
+    flen = np.empty(b2.shape[0] - 1)
+    segment_lengths(b2, flen)
+    return b2, flen
+
+
 @njit(**JIT, parallel=True)
 def crossings_at_states(v1, v2, xs, ys, phis, delta, contact, count, out):
     """Direct test at arbitrary states (xs[s], ys[s], phis[s]): the Monte-Carlo path."""
     dlen = np.empty(v1.shape[0] - 1)
     segment_lengths(v1, dlen)
     for s in prange(xs.shape[0]):
-        b2 = np.empty_like(v2)
-        rotate(v2, math.cos(phis[s]), math.sin(phis[s]), b2)
-        flen = np.empty(b2.shape[0] - 1)
-        segment_lengths(b2, flen)
+        b2, flen = turned(v2, phis[s])
         out[s] = min(crossings_at(v1, dlen, b2, flen, xs[s], ys[s], delta, contact, count), COUNT_MAX)
 
 
@@ -399,10 +406,7 @@ def overlap_at_states(v1, v2, xs, ys, phis, delta, contact, out):
     box1 = np.empty((chunk_count(v1), 4))
     chunk_boxes(v1, box1)
     for s in prange(xs.shape[0]):
-        b2 = np.empty_like(v2)
-        rotate(v2, math.cos(phis[s]), math.sin(phis[s]), b2)
-        flen = np.empty(b2.shape[0] - 1)
-        segment_lengths(b2, flen)
+        b2, flen = turned(v2, phis[s])
         box2 = np.empty((chunk_count(b2), 4))
         chunk_boxes(b2, box2)
         out[s] = meets_in_chunks(v1, dlen, box1, b2, flen, box2, xs[s], ys[s], delta, contact)
