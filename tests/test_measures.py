@@ -347,3 +347,24 @@ def test_the_superellipse_perimeter_reference_is_the_arc_length_integral(n, aspe
 
     quadrant, _ = integrate.quad(speed, 0.0, math.pi / 2, limit=500)
     assert superellipse_perimeter(SeSP(n=n, aspect=aspect)) == pytest.approx(4 * quadrant, rel=1e-9)
+
+
+def test_a_long_call_shows_its_progress_by_default(monkeypatch, capsys):
+    """No call runs silently for minutes: excluded_area, third_virial and certified_components show a bar by
+    default once their work passes sesp.progress.DELAY (2 s; 0 here), and none with progress=False."""
+    import sesp.progress
+    from sesp import certified_components
+    from sesp.virial import third_virial
+
+    monkeypatch.setattr(sesp.progress, "DELAY", 0.0)
+    asp = SeSP(n=2, opening=1.0)
+    calls = {
+        "excluded_area": lambda **kw: excluded_area(asp, rtol=1e-2, **kw),
+        "B3 orientation pairs": lambda **kw: third_virial(asp, rtol=None, nodes=21, nphi=2, segments=16, **kw),
+        "certified components": lambda **kw: certified_components(asp, resolution=1e-2, **kw),
+    }
+    for said, call in calls.items():
+        call()
+        assert said in capsys.readouterr().err, said
+        call(progress=False)
+        assert capsys.readouterr().err == "", said

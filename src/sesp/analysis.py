@@ -183,7 +183,7 @@ def analyze(
     if "phases" in keep:
         _add_phases(ds, best, pair)
     if "third_virial" in keep:
-        found = third_virial(pair.particle, pair.other, segments=pair.segments, rtol=third_virial_rtol)
+        found = third_virial(pair.particle, pair.other, segments=pair.segments, rtol=third_virial_rtol, progress=False)
         for name in ("third_virial_coefficient", "third_virial_coefficient_error", "reduced_third_virial"):
             ds[name] = found[name]
     if "classes" not in keep:
@@ -217,7 +217,7 @@ def _add_excluded_area(ds, pair, grid, rtol):
     orientation mean and error bar as it gives them, and A_ex(φ) at the grid's orientations; returns its
     result, on the orientations it was refined on."""
     other = None if pair.identical else pair.other
-    best = excluded_area(pair.particle, other, rtol=rtol)
+    best = excluded_area(pair.particle, other, rtol=rtol, progress=False)
     on_grid = _at_orientations(best, pair.particle, other, grid.phi)
     for name in ("excluded_area", "excluded_area_error"):
         ds[name] = on_grid[name].assign_coords(phi=ds.phi)
@@ -235,7 +235,7 @@ def _at_orientations(best, particle, other, phi) -> xr.Dataset:
     if rest == 0 and np.allclose(best.phi.values[::step], phi, rtol=0, atol=1e-12):
         return best.isel(phi=slice(None, None, step))
     settings = {k: int(best.attrs[k]) for k in ("segments", "rows")}
-    return excluded_area(particle, other, rtol=None, nphi=len(phi), **settings)
+    return excluded_area(particle, other, rtol=None, nphi=len(phi), progress=False, **settings)
 
 
 def _add_normalized(ds, pair, rtol):
@@ -279,4 +279,5 @@ def _add_phases(ds, best, pair):
 
 def _add_components(ds, pair, resolution):
     """The certified count of excluded components, its bracket and the deepest components, in place."""
-    ds.update(certified_components(pair, resolution=resolution, base=BASE).to_dataset(COMPONENTS_KEPT))
+    found = certified_components(pair, resolution=resolution, base=BASE, progress=False)
+    ds.update(found.to_dataset(COMPONENTS_KEPT))

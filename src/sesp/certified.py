@@ -282,7 +282,7 @@ def certified_components(
     base: int = BASE,
     segments: int = DEFAULT_SEGMENTS,
     settings: Settings | None = None,
-    progress: bool = False,
+    progress: bool = True,
 ) -> Certified:
     """The excluded components of a pair at resolution ``resolution`` (b), certified on both sides, exact in φ.
 
@@ -292,8 +292,9 @@ def certified_components(
     component is counted where it is at least ``resolution + rim`` deep (a
     lower rim counts shallower components and costs more); ``base``: cells
     along each side at first; ``settings``: the cost settings
-    (:class:`Settings`; a decided count does not depend on them). See the
-    module text for the definition.
+    (:class:`Settings`; a decided count does not depend on them); ``progress``:
+    a progress bar once the count has run 2 s (default; False: none). See
+    the module text for the definition.
 
     Examples
     --------

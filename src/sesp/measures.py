@@ -417,7 +417,7 @@ def excluded_area(
     segments: int | None = None,
     nphi: int | None = None,
     rows: int | None = None,
-    progress: bool = False,
+    progress: bool = True,
 ) -> xr.Dataset:
     """A_ex(φ) and its orientation mean ⟨A_ex⟩ with error bars, b²: sesp's answer to "what is A_ex?".
 
@@ -447,7 +447,8 @@ def excluded_area(
     rows : int, optional
         Scanline spacings (a multiple of 8), refined from 2048 (smooth curves) or 512 (polygons).
     progress : bool
-        A progress bar over the refinement steps, showing each step's settings, ⟨A_ex⟩ and its error bar.
+        A progress bar over the refinement steps, showing each step's settings, ⟨A_ex⟩ and its error bar, once
+        the work has run 2 s (default; no call runs silently for minutes); False: none.
 
     Returns
     -------
@@ -541,7 +542,7 @@ def closed_excluded_area(source, *, rtol: float = RTOL) -> float:
     if closed.identical and closed.particle.is_convex_closed:
         particle = closed.particle
         return _convex_mean(superellipse_area(particle), superellipse_perimeter(particle), pair.contact)
-    found = excluded_area(closed.particle, None if closed.identical else closed.other, rtol=rtol)
+    found = excluded_area(closed.particle, None if closed.identical else closed.other, rtol=rtol, progress=False)
     return float(found.mean_excluded_area)
 
 

@@ -45,7 +45,7 @@ def _area_line(ds, rtol: float) -> str:
         mean, error = float(ds.mean_excluded_area), float(ds.mean_excluded_area_error)
         text = f"A_ex     : {area_text(mean, error)} (of the {ds.attrs.get('excluded_area_of', 'polygons')})"
     else:
-        best = excluded_area(pair.particle, None if pair.identical else pair.other, rtol=rtol)
+        best = excluded_area(pair.particle, None if pair.identical else pair.other, rtol=rtol, progress=False)
         mean, error = float(best.mean_excluded_area), float(best.mean_excluded_area_error)
         text = (
             f"A_ex     : {area_text(mean, error)} (of the {best.attrs['excluded_area_of']}; sesp.excluded_area"

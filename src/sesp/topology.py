@@ -308,7 +308,7 @@ def transitions(
     rim: float | None = None,
     base: int = BASE,
     segments: int = DEFAULT_SEGMENTS,
-    progress: bool = False,
+    progress: bool = True,
     on_change=None,
     on_run=None,
     workers: int | None = None,
@@ -472,7 +472,7 @@ def _search(counter, grid, width, progress, callbacks, state):
 
 def _count(particle, resolution, rim, base, segments) -> Certified:
     """One opening's certified count (in a worker process where there are several)."""
-    return certified_components(particle, resolution=resolution, rim=rim, base=base, segments=segments)
+    return certified_components(particle, resolution=resolution, rim=rim, base=base, segments=segments, progress=False)
 
 
 class _Counter:

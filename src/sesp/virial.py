@@ -134,7 +134,7 @@ def second_virial(particles, fractions=None, *, rtol: float = RTOL) -> xr.Datase
     areas = {}
     for i, a in enumerate(species):
         for j in range(i, len(species)):
-            areas[i, j] = areas[j, i] = excluded_area(a, None if i == j else species[j], rtol=rtol)
+            areas[i, j] = areas[j, i] = excluded_area(a, None if i == j else species[j], rtol=rtol, progress=False)
     return mixture_second_virial([[areas[i, j] for j in range(len(species))] for i in range(len(species))], fractions)
 
 
@@ -149,7 +149,7 @@ def third_virial(
     shifts: int | None = None,
     orientations: str = "free",
     segments: int = DEFAULT_SEGMENTS,
-    progress: bool = False,
+    progress: bool = True,
     memory_limit: int | None = None,
 ) -> xr.Dataset:
     """B₃ of one species, or B₃,ᵢⱼₖ of three (a mixture), with an error bar, from the overlap indicators (b⁴).
@@ -183,7 +183,8 @@ def third_virial(
     segments : int
         Polyline segments of SeSPs.
     progress : bool
-        A progress bar over the orientation pairs of each step.
+        A progress bar over the orientation pairs of each step, with its ETA, once the work has run 2 s
+        (default); False: none.
     memory_limit : int, optional
         Bytes the E₁₂ slices and the E₁₂ and E₁₃ spectra held over φ may take (:func:`held_bytes`); default half the
         available memory. More is refused before any work.
@@ -233,7 +234,7 @@ def third_virial(
     found.attrs.update(rtol=np.nan if rtol is None else rtol, converged=int(converged), seconds=seconds)
     if fixed:
         return found
-    area = excluded_area(particle, second)  # the smooth curves' for SeSPs: within 1e-5 of the polygons'
+    area = excluded_area(particle, second, progress=False)  # the smooth curves': within 1e-5 of the polygons'
     return _with_second_virial(found, float(area.mean_excluded_area) / 2, float(area.mean_excluded_area_error) / 2)
 
 
