@@ -121,3 +121,18 @@ def test_a_lattice_that_would_not_fit_is_refused_before_any_work():
         third_virial(SeSP(n=2, opening=1.0), rtol=None, nodes=41, nphi=4, memory_limit=held_bytes(41, 4, 4) - 1)
     per_slice = np.fft.rfft2(np.zeros((129, 129), dtype=bool), s=(258, 258)).nbytes
     assert held_bytes(129, 32, 4) >= 4 * 32 * (per_slice + 129 * 129)
+
+
+def test_a_mixture_of_one_particle_under_two_names_has_its_b3():
+    """Σᵢⱼₖ xᵢxⱼxₖ B₃,ᵢⱼₖ with every B₃,ᵢⱼₖ the same is that B₃, whatever the fractions: the weights of the
+    multisets (1, 3, 3, 1 orders) add up to 1."""
+    from sesp.virial import mixture_third_virial
+
+    asp = SeSP(n=2, opening=2.0)
+    settings = dict(rtol=None, b2_rtol=1e-3, nodes=21, nphi=4, segments=16, progress=False)
+    pure = mixture_third_virial(asp, **settings)
+    mixed = mixture_third_virial([asp, asp], [0.3, 0.7], **settings)
+    assert float(mixed.third_virial_coefficient) == pytest.approx(float(pure.third_virial_coefficient), rel=1e-12)
+    assert float(mixed.second_virial_coefficient) == pytest.approx(float(pure.second_virial_coefficient), rel=1e-12)
+    alone = third_virial(asp, rtol=None, nodes=21, nphi=4, segments=16, progress=False)
+    assert float(pure.third_virial_coefficient) == float(alone.third_virial_coefficient)

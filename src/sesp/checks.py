@@ -132,11 +132,12 @@ def check_opening(opening, *, degrees: bool = False) -> float:
 RTOLS = (1e-12, 0.5)  # relative error bars a refinement can be asked for
 
 
-def check_rtol(rtol, what: str) -> float | None:
-    """A relative error bar to refine to, in [1e-12, 0.5] (``what``: of which quantity), or None (no refinement)."""
+def check_rtol(rtol, what: str, name: str = "rtol") -> float | None:
+    """A relative error bar to refine to, in [1e-12, 0.5] (``what``: of which quantity; ``name``: the parameter),
+    or None (no refinement)."""
     if rtol is None:
         return None
-    return check_range("rtol", rtol, *RTOLS, f" (relative error bar of {what}) or None")
+    return check_range(name, rtol, *RTOLS, f" (relative error bar of {what}) or None")
 
 
 def check_choice(name: str, value, choices) -> str:

@@ -233,39 +233,31 @@ def _shape_json(args, particles) -> dict:
 
 def _cmd_virial(args) -> int:
     import json
-    from itertools import combinations_with_replacement
 
     from .report import value_text
-    from .virial import second_virial, third_virial
+    from .shape import DEFAULT_SEGMENTS
+    from .virial import mixture_third_virial, second_virial
 
     species = _species_from_args(args)
     fractions = args.fractions if args.fractions is not None else [1 / len(species)] * len(species)
     if len(fractions) != len(species):
         raise ValueError(f"--fractions must give one mole fraction per species ({len(species)}), got {fractions}")
     _announce_compile("overlap", "scanline", "spectra")
-    b2 = second_virial(species, fractions, rtol=args.rtol)
-    out = {**_shape_json(args, species), "fractions": list(map(float, b2.fraction.values)),
-           "units": {"lengths": "b", "B2": "b^2", "B3": "b^4", "angles": "deg"},
-           "second_virial_coefficient": float(b2.second_virial_coefficient),
-           "second_virial_coefficient_error": float(b2.second_virial_coefficient_error)}  # fmt: skip
+    if args.no_b3:
+        found = second_virial(species, fractions, rtol=args.rtol)
+    else:
+        found = mixture_third_virial(species, fractions, rtol=args.b3_rtol, b2_rtol=args.rtol, nodes=args.nodes,
+                                     nphi=args.nphi, segments=args.segments or DEFAULT_SEGMENTS,
+                                     progress=not args.quiet)  # fmt: skip
+    out = {**_shape_json(args, species), "fractions": list(map(float, found.fraction.values)),
+           "units": {"lengths": "b", "B2": "b^2", "B3": "b^4", "angles": "deg"}}  # fmt: skip
+    names = ["second_virial_coefficient"]
+    names += [] if args.no_b3 else ["third_virial_coefficient", "reduced_third_virial"]
+    for name in names:
+        out.update({name: float(found[name]), f"{name}_error": float(found[f"{name}_error"])})
     if not args.no_b3:
-        b3, b3_error, converged = 0.0, 0.0, True
-        x = out["fractions"]
-        for triple in combinations_with_replacement(range(len(species)), 3):
-            found = third_virial(*(species[i] for i in triple), rtol=args.b3_rtol, nodes=args.nodes, nphi=args.nphi,
-                                 segments=args.segments or 256, progress=not args.quiet)  # fmt: skip
-            weight = math.prod(x[i] for i in triple) * _permutations(triple)
-            b3 += weight * float(found.third_virial_coefficient)
-            b3_error += weight * float(found.third_virial_coefficient_error)
-            converged = converged and bool(found.attrs["converged"])
-        b2_value, b2_error = out["second_virial_coefficient"], out["second_virial_coefficient_error"]
-        ratio = b3 / b2_value**2
-        out.update(third_virial_coefficient=b3, third_virial_coefficient_error=b3_error,
-                   reduced_third_virial=ratio,
-                   reduced_third_virial_error=abs(ratio) * (b3_error / abs(b3) + 2 * b2_error / b2_value),
-                   b3_rtol=args.b3_rtol, b3_converged=converged)  # fmt: skip
-        if len(species) == 1:
-            out.update(nodes=found.attrs["nodes"], nphi=found.attrs["nphi"])
+        out.update(b3_rtol=args.b3_rtol, b3_converged=bool(found.attrs["converged"]))
+        out.update({k: found.attrs[k] for k in ("nodes", "nphi") if k in found.attrs})
     if args.json:
         print(json.dumps(out))
         return 0
@@ -275,11 +267,6 @@ def _cmd_virial(args) -> int:
               f"{'' if out['b3_converged'] else f' (rtol {args.b3_rtol:g} NOT met)'}")  # fmt: skip
         print(f"B3 / B2^2 = {value_text(out['reduced_third_virial'], out['reduced_third_virial_error'], '')}")
     return 0
-
-
-def _permutations(triple) -> int:
-    """How many ordered triples (i, j, k) are the same multiset as ``triple``."""
-    return math.factorial(3) // math.prod(math.factorial(triple.count(i)) for i in set(triple))
 
 
 def _add_phases(sub):

@@ -80,7 +80,7 @@ import xarray as xr
 
 from .analysis import KEEP, analyze, check_keep, check_memory
 from .certified import RESOLUTION
-from .checks import RTOLS, check_range, check_resolution, check_rtol
+from .checks import check_resolution, check_rtol
 from .dataset import SHAPE_KEYS, base_attrs, parameter_attrs
 from .fileprobe import probe
 from .grid import Grid
@@ -269,9 +269,9 @@ class SweepSpec:
                     dict(self.grid),
                     tuple(self.keep),
                     index,
-                    self.resolution,
-                    self.rtol,
-                    self.third_virial_rtol,
+                    resolution=self.resolution,
+                    rtol=self.rtol,
+                    third_virial_rtol=self.third_virial_rtol,
                 )  # fmt: skip
             )
         return out
@@ -422,7 +422,7 @@ def load_spec(path, *, output: str | os.PathLike | None = None) -> SweepSpec:
     try:  # the checks Python and the command line use
         check_resolution(resolution)
         check_rtol(rtol, "<A_ex>")
-        third_virial_rtol = check_range("third_virial_rtol", third_virial_rtol, *RTOLS, " (relative error bar of B3)")
+        check_rtol(third_virial_rtol, "B3", "third_virial_rtol")
     except ValueError as err:
         raise SweepError(f"{path}: [output] {err}") from None
     spec = SweepSpec(

@@ -26,6 +26,7 @@ exactly when hard disks of diameter 2R overlap: B₃/B₂² = 4/3 − √3/π) a
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 import warnings
@@ -47,7 +48,7 @@ from .progress import progress_bar
 from .shape import DEFAULT_SEGMENTS
 from .units import link_errors, quantity
 
-__all__ = ["second_virial", "third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
+__all__ = ["second_virial", "third_virial", "mixture_third_virial", "third_virial_monte_carlo", "ORIENTATIONS"]
 
 ORIENTATIONS = ("free", "fixed")
 B3_RTOL = 1e-3  # the relative error bar third_virial refines to by default
@@ -193,7 +194,7 @@ def third_virial(
     -------
     xarray.Dataset
         ``third_virial_coefficient`` and its ``third_virial_coefficient_error`` (b⁴),
-        ``second_virial_coefficient`` (b², of particles 1 and 2, from :func:`sesp.excluded_area` for free
+        ``second_virial_coefficient`` ± ``_error`` (b², of particles 1 and 2, from :func:`sesp.excluded_area` for free
         orientations, from the lattice's own count of the φ = 0 slice for fixed ones) and the reduced
         ``reduced_third_virial`` B₃/B₂² with its error; attributes: the lattice (``nodes``, ``spacing``),
         ``nphi``, ``orientations``, ``lattice_error`` and ``phi_error`` (b⁴), ``rtol``, ``converged`` and
@@ -238,6 +239,50 @@ def third_virial(
     return _with_second_virial(found, float(area.mean_excluded_area) / 2, float(area.mean_excluded_area_error) / 2)
 
 
+def mixture_third_virial(
+    particles,
+    fractions=None,
+    *,
+    rtol: float | None = B3_RTOL,
+    b2_rtol: float = RTOL,
+    nodes: int | None = None,
+    nphi: int | None = None,
+    segments: int = DEFAULT_SEGMENTS,
+    progress: bool = True,
+) -> xr.Dataset:
+    """B₃ of a mixture, Σᵢⱼₖ xᵢ xⱼ xₖ B₃,ᵢⱼₖ (b⁴), and B₃/B₂² with the mixture's B₂ (:func:`second_virial`).
+
+    ``particles`` and ``fractions`` as for :func:`second_virial`. B₃,ᵢⱼₖ is the same for every order of i, j, k,
+    so one :func:`third_virial` is measured per multiset, to ``rtol`` with ``nodes``, ``nphi`` and ``segments``
+    as there; its bar is the same weighted sum of theirs. One species: its B₃, with the B₂ of
+    :func:`second_virial` at ``b2_rtol``. Attributes: ``converged`` (1 where every B₃,ᵢⱼₖ met rtol), and for one
+    species the ``nodes`` and ``nphi`` it reached."""
+    species = list(particles) if isinstance(particles, list | tuple) else [particles]
+    b2 = second_virial(species, fractions, rtol=b2_rtol)
+    x = b2.fraction.values
+    b3, error, converged, found = 0.0, 0.0, True, None
+    for triple in itertools.combinations_with_replacement(range(len(species)), 3):
+        found = third_virial(*(species[i] for i in triple), rtol=rtol, nodes=nodes, nphi=nphi, segments=segments,
+                             progress=progress)  # fmt: skip
+        weight = math.prod(x[i] for i in triple) * math.factorial(3)
+        weight /= math.prod(math.factorial(triple.count(i)) for i in set(triple))  # the orders of the multiset
+        b3 += weight * float(found.third_virial_coefficient)
+        error += weight * float(found.third_virial_coefficient_error)
+        converged = converged and bool(found.attrs["converged"])
+    out = xr.Dataset(
+        {
+            "third_virial_coefficient": ((), b3, quantity(4, "third virial coefficient B3 of the mixture")),
+            "third_virial_coefficient_error": ((), error, quantity(4, "error bar of B3 (lattice + φ)")),
+            "fraction": b2.fraction,
+        },
+        attrs={"converged": int(converged), "rtol": np.nan if rtol is None else rtol},
+    )
+    if len(species) == 1:
+        out.attrs.update(nodes=found.attrs["nodes"], nphi=found.attrs["nphi"])
+    b2_value, b2_error = float(b2.second_virial_coefficient), float(b2.second_virial_coefficient_error)
+    return _with_second_virial(out, b2_value, b2_error)
+
+
 def _raised(name: str, value: int) -> int:
     """The next value of a refined setting: nodes to 2·nodes − 1 (every old node kept), nphi by 3/2 to an even
     number (the orientation part falls fast: doubling overshoots)."""
@@ -245,20 +290,17 @@ def _raised(name: str, value: int) -> int:
 
 
 def _next_b3_setting(found, settings, free, shifts, memory_limit) -> str | None:
-    """The setting to raise next (the one with the larger part of the error bar, among those left free), or
-    None where it is given, at its largest, or would not fit in memory."""
-    parts = {"nodes": found.attrs["lattice_error"], "nphi": found.attrs["phi_error"]}
-    for name in sorted(free, key=lambda k: -parts[k]):
-        raised = _raised(name, settings[name])
-        if parts[name] == 0 or raised > LARGEST[name]:
-            continue
-        trial = {**settings, name: raised}
-        try:
-            _checked(trial["nodes"], trial["nphi"], shifts, found.attrs["orientations"], memory_limit)
-        except MemoryError:
-            continue
-        return name if parts[name] >= max(parts.values()) else None
-    return None
+    """The setting of the larger part of the error bar (``nodes``: the lattice's, ``nphi``: the orientations'),
+    where it is left free, below its largest and fits in memory; else None."""
+    name = "nodes" if found.attrs["lattice_error"] >= found.attrs["phi_error"] else "nphi"
+    raised = {**settings, name: _raised(name, settings[name])}
+    if name not in free or raised[name] > LARGEST[name]:
+        return None
+    try:
+        _checked(raised["nodes"], raised["nphi"], shifts, found.attrs["orientations"], memory_limit)
+    except MemoryError:
+        return None
+    return name
 
 
 def _third_virial_at(pairs, settings, shifts, orientations, progress, memory_limit) -> xr.Dataset:
@@ -293,6 +335,7 @@ def _with_second_virial(found: xr.Dataset, b2: float, b2_error: float) -> xr.Dat
     ratio_error = ratio * (error / abs(b3) + 2 * b2_error / b2)
     out = found.assign(
         second_virial_coefficient=((), b2, quantity(2, "second virial coefficient B2")),
+        second_virial_coefficient_error=((), b2_error, quantity(2, "error bar of B2")),
         reduced_third_virial=((), ratio, {"units": "1", "long_name": "B3 / B2^2"}),
         reduced_third_virial_error=((), abs(ratio_error), {"units": "1", "long_name": "error bar of B3 / B2^2"}),
     )
