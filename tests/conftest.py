@@ -17,12 +17,13 @@ from cases import FULL
 # tests need, and both compile the certified kernels at the same time (a cold CI run: two tests of 2-13 s took
 # 119 and 145 s).
 WARM_UP = (
-    "import math, sesp; sesp.certified_components(sesp.SeSP(n=4, opening=math.radians(170)), resolution=1e-2)",
+    "import math, sesp; sesp.certified_components(sesp.SeSP(n=4, opening=math.radians(170)), resolution=1e-2,"
+    " progress=False)",
     "import math, sesp; from sesp.virial import third_virial;"
     " sesp.analyze(sesp.SeSP(n=2, opening=1.0), sesp.Grid(16, nphi=8), segments=16,"
     " keep=['excluded_area', 'classes', 'allowed', 'crossings', 'entangled']);"
-    " sesp.excluded_area(sesp.SeSP(n=8, opening=1.0), rtol=1e-2);"
-    " third_virial(sesp.SeSP(n=2, opening=1.0), rtol=None, nodes=21, nphi=2, segments=16);"
+    " sesp.excluded_area(sesp.SeSP(n=8, opening=1.0), rtol=1e-2, progress=False);"
+    " third_virial(sesp.SeSP(n=2, opening=1.0), rtol=None, nodes=21, nphi=2, segments=16, progress=False);"
     " sesp.overlaps(sesp.SeSP(), None, [0.0], [0.0], [0.0])",
 )
 
