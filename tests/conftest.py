@@ -14,8 +14,7 @@ from cases import FULL
 
 # Kernels compiled (or loaded from numba's cache) before the test processes start, in two processes side by side:
 # the certified count's, and the field's, A_ex's and B₃'s. Without it each test process compiles what its first
-# tests need, and both compile the certified kernels at the same time (a cold CI run: two tests of 2-13 s took
-# 119 and 145 s).
+# tests need, and both compile the certified kernels at the same time.
 WARM_UP = (
     "import math, sesp; sesp.certified_components(sesp.SeSP(n=4, opening=math.radians(170)), resolution=1e-2,"
     " progress=False)",

@@ -54,8 +54,8 @@ MAX_LENGTH = 1e6
 # then reaches at most 3e5 b, so that its default grid (half-width about its reach) is one MAX_LENGTH accepts.
 MAX_PARTICLE = MAX_LENGTH / 10
 # The certified count's cells along the excluded set's edges are about the rim wide, so they number from about
-# the pair's reach over the rim to ten times it (n = 4, reach 2.3 b, rim 1e-5 b: 2.4e5 cells at 178°, 1.7e6 at
-# 170°); beyond this ratio a count needs millions of cells: tens of minutes or more on two cores.
+# the pair's reach over the rim to ten times it (benchmarks/README.md, "fine counts"); beyond this ratio a count
+# needs millions of cells: tens of minutes or more on two cores.
 MAX_REACH_PER_RIM = 1e6
 # Shortest segment relative to the particle's size: shorter ones are rounding noise, not geometry.
 MIN_SEGMENT_RATIO = 1e-9
