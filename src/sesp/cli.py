@@ -368,7 +368,7 @@ def _add_topology(sub):
         help="the certified count of excluded components at one opening, or over the opening Ψ and where it changes",
         description="The certified count of excluded components at one opening (seconds at the defaults), or over "
         "the opening Ψ with each change bracketed and named (an event of the eroded excluded set, or a "
-        "component's depth crossing resolution + rim) and each component followed over Ψ (about 5 minutes for "
+        "component's depth crossing resolution + rim) and each component followed over Ψ (4 to 8 minutes for "
         "0-360 degrees on 2 cores at the defaults; counts are kept in --cache, so Ctrl-C keeps what is done and a "
         "rerun resumes).",
     )
