@@ -668,3 +668,27 @@ def test_thick_particles_are_certified_deep_where_their_curves_stay_near_and_exc
     ys = np.concatenate([y[near], *(y[near] + 0.999 * r * math.sin(t) for t in turns)])
     width, _ = widest_window(part, xs, ys, segments=128)
     assert np.all(width == 0)
+
+
+def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_force():
+    """A walk that fails at its depth goes on at the fallback depth, where thick particles count as near enough
+    too (within D less the fallback, by the Lipschitz bound or by one curve's nearest segment against the whole
+    other curve). Positions of the ASP at 90°, 0.05 b thick, about the excluded set's edge, proved 2e-3 b deep
+    at the fallback and not 0.5 b: they and 16 points 0.999 of that from each are excluded exactly in φ; and
+    some of them are proved so only where the curves come near without crossing."""
+    from sesp.orientations import widest_window
+
+    part, fallback = SeSP(n=2, opening=math.radians(90), thickness=0.05), 2e-3
+    pair = as_pair(part, segments=128)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    rng = np.random.default_rng(5)
+    x, y = rng.uniform(-2.1, 2.1, 4000), rng.uniform(-2.1, 2.1, 4000)
+    got = depth_kernels.certified_deep(curves, x, y, 0.5, 4096, fallback=fallback, contact=pair.contact)
+    crossed = depth_kernels.certified_deep(curves, x, y, fallback, 4096)  # the thin curves crossed at every φ
+    proved = np.flatnonzero(got == 2)
+    assert len(proved) >= 100 and np.sum(crossed[proved] != 1) >= 20
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x[proved], *(x[proved] + 0.999 * fallback * math.cos(t) for t in turns)])
+    ys = np.concatenate([y[proved], *(y[proved] + 0.999 * fallback * math.sin(t) for t in turns)])
+    width, _ = widest_window(part, xs, ys, segments=128)
+    assert np.all(width == 0)

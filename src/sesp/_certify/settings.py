@@ -54,6 +54,9 @@ class Settings:
         Relative to the depth: two end points' walk gives up on turns that move curve 2 less than this.
     max_crossings : int
         Crossings of the polylines at one φ beyond which a depth walk gives up (the windows then decide).
+    samples : int
+        Evenly spaced orientations at which a thick pair's centre that is neither allowed at its hint nor
+        proved excluded is tried before the exact windows.
     """
 
     steps_per_vertex: int = 4
@@ -72,6 +75,7 @@ class Settings:
     long_crossings: int = 16
     least_tip_step: float = 1e-6
     max_crossings: int = 1024
+    samples: int = 32
 
     def __post_init__(self):
         for f in fields(self):

@@ -27,13 +27,14 @@ deep (for instance where the curves nearly coincide and cross many times
 within a short run).
 """
 
+import math
 from collections import namedtuple
 
 import numpy as np
 from numba import njit, prange
 
 from .common import JIT, chunk_boxes, chunk_count, small_chunks
-from .orientations import TWO_PI, clearance
+from .orientations import TWO_PI, blocked_angles, nearest_segments, placed, radial_spans
 from .runs import (
     Curves,
     Moved,
@@ -128,29 +129,78 @@ def _walk(curves, tx, ty, depth, roots, options):
 
 
 @njit(**JIT)
-def _deeper(walk, r):
-    """``walk`` at depth r (its margin kept: it holds at any smaller depth)."""
-    return Walk(walk.curves, walk.near1, walk.far1, walk.tx, walk.ty, r, walk.margin, walk.roots, walk.options)
+def _deeper(walk, depth):
+    """``walk`` at ``depth`` (r, margin)."""
+    return Walk(walk.curves, walk.near1, walk.far1, walk.tx, walk.ty, depth[0], depth[1], walk.roots, walk.options)
+
+
+@njit(**JIT)
+def _nearer(walk, moved, phi, first, ahead, behind, found):
+    """(ahead, behind, found): the interval found, or that of :func:`_near_interval` where thick particles come
+    near enough (crossed or not) over a longer one."""
+    if walk.margin > 0.0:
+        a, b = _near_interval(walk, moved, phi, first)
+        if a + b > ahead + behind:
+            return a, b, True
+    return ahead, behind, found
 
 
 @njit(**JIT)
 def _near_interval(walk, moved, phi, first):
-    """(ahead, behind): the interval of φ about ``phi`` over which thick particles stay within their contact
-    distance under every translation shorter than the depth sought: the curves' distance d at ``phi`` is at most
-    ``walk.margin`` (the contact distance less that depth), and it grows by at most ρ per radian of turn (ρ the
-    largest distance of curve 2's points from its centre), so the interval reaches (margin − d)/ρ each way;
-    (0, 0) where d is larger."""
-    curves = walk.curves
-    if walk.margin <= 0.0:
+    """(ahead, behind): an interval of φ about ``phi`` over which thick particles stay within their contact
+    distance under every translation shorter than the depth sought: where the curves' distance d at ``phi`` is
+    at most ``walk.margin`` (the contact distance less that depth), the longest of
+
+    * (margin − d)/ρ each way: the distance grows by at most ρ per radian of turn, ρ the largest distance of
+      curve 2's points from its centre;
+    * the interval over which all of curve 2 stays within the margin of the segment of curve 1 nearest to it at
+      ``phi``, and the one over which curve 1 stays within the margin of curve 2's nearest segment
+      (:func:`_segment_within`): the curves are never farther apart than such a pair.
+
+    (0, 0) where d is larger. The second holds far longer where the nearest points slide along the curves as
+    they turn, as on two arcs about nearly the same centre."""
+    curves, tx, ty, margin = walk.curves, walk.tx, walk.ty, walk.margin
+    if margin <= 0.0:
         return 0.0, 0.0
     rho = 0.0
     for k in range(curves.rout2.shape[0]):
         rho = max(rho, curves.rout2[k])
-    d = clearance(curves.v1, curves.boxes1, curves.v2, walk.tx, walk.ty, phi, walk.margin, moved.w, moved.boxes2)
-    if d >= walk.margin:
+    v1, v2 = curves.v1, curves.v2
+    placed(v2, tx, ty, phi, moved.w, moved.boxes2)
+    d2, i, j = nearest_segments(v1, curves.boxes1, moved.w, moved.boxes2, margin)
+    d = math.sqrt(d2)
+    if d >= margin:
         return 0.0, 0.0
-    reach = (walk.margin - d) / rho
-    return reach, (reach if first else 0.0)
+    ahead = behind = (margin - d) / rho
+    if i >= 0:
+        for one, other in ((v1[i : i + 2], v2), (v1, v2[j : j + 2])):
+            a, b = _segment_within(one, other, tx, ty, phi, margin)
+            ahead, behind = max(ahead, a), max(behind, b)
+    return ahead, (behind if first else 0.0)
+
+
+@njit(**JIT)
+def _segment_within(v1, v2, tx, ty, phi, margin):
+    """(ahead, behind): the interval of φ about ``phi`` over which curve 2 (``v2``) at t comes within ``margin``
+    (b) of curve 1 (``v1``), one of them a single segment: the union of the exact intervals of each pair of
+    segments (:func:`~sesp.kernels.orientations.blocked_angles`), taken at a margin 1e-12 b smaller and
+    shortened by 1e-12 rad at each end, for rounding; (0, 0) where ``phi`` lies in none."""
+    starts, ends = blocked_angles(v1, v2, radial_spans(v2), tx, ty, 0.0, margin - 1e-12)
+    at = phi - TWO_PI * math.floor(phi / TWO_PI)
+    lo, hi = at, at
+    grown = True
+    while grown:  # the union's piece about ``at``, across 0 = 2π
+        grown = False
+        for k in range(starts.shape[0]):
+            for shift in (-TWO_PI, 0.0, TWO_PI):
+                s, e = starts[k] + shift, ends[k] + shift
+                if s <= hi and e >= lo and (s < lo or e > hi):
+                    lo, hi, grown = min(lo, s), max(hi, e), True
+        if hi - lo >= TWO_PI:
+            return TWO_PI, TWO_PI
+    if lo == at and hi == at:
+        return 0.0, 0.0
+    return max(0.0, hi - at - 1e-12), max(0.0, at - lo - 1e-12)
 
 
 @njit(**JIT)
@@ -158,16 +208,16 @@ def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
     """(status, φ): status 1 if position (tx, ty) is certified deep in the excluded set (module notes) within
     ``max_steps`` intervals of φ: ``depth`` (r, margin), at every φ the curves stay crossed under translations
     shorter than r or (thick particles) come no farther apart than the margin (:func:`_near_interval`); 2 if
-    not, but at least ``fallback`` deep (0 < ``fallback`` < r; 0: not asked); 0 if at some φ no pair of runs
-    crosses with its ends that far apart (the position may still be that deep: the certificate is one-sided),
-    or if the walk at ``fallback`` took more than
-    ``options.fallback_steps`` intervals; −1 if ``max_steps`` were not enough at r. Where the walk at r fails
-    it goes on at ``fallback`` from there: what is certified at r is certified at any smaller depth.
-    ``prepared_curves``: :func:`prepared`. From the second interval on a pair r apart is also lengthened
-    (``options.lengthen``), until once that gives no longer interval; ``options.tips``: where no pair of runs is
-    r apart, try two end points. The walk begins at φ = ``start`` (radians): where the position is least deep
-    there (an orientation allowed nearby), a walk that fails fails at once. φ (radians): where the walk stopped,
-    the orientation at which a walk that fails failed (nearby positions at a like depth fail there too)."""
+    not, but at least ``fallback`` (r, margin) deep (0 < its r < depth's; r 0: not asked); 0 if at some φ no
+    pair of runs crosses with its ends that far apart (the position may still be that deep: the certificate is
+    one-sided), or if the walk at ``fallback`` took more than ``options.fallback_steps`` intervals; −1 if
+    ``max_steps`` were not enough at r. Where the walk at r fails it goes on at ``fallback`` from there: what is
+    certified at r is certified at any smaller depth. ``prepared_curves``: :func:`prepared`. From the second
+    interval on a pair r apart is also lengthened (``options.lengthen``), until once that gives no longer
+    interval; ``options.tips``: where no pair of runs is r apart, try two end points. The walk begins at φ =
+    ``start`` (radians): where the position is least deep there (an orientation allowed nearby), a walk that
+    fails fails at once. φ (radians): where the walk stopped, the orientation at which a walk that fails failed
+    (nearby positions at a like depth fail there too)."""
     roots = np.empty(16)
     plain, moved = _walk(prepared_curves[0], tx, ty, depth, roots, options)
     halved, moved_h = _walk(prepared_curves[1], tx, ty, depth, roots, options)
@@ -187,16 +237,14 @@ def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
         ahead, behind, found, longer = _interval_at((plain, halved), (moved, moved_h), got, phi, first, lengthen)
         if lengthen and got[5] >= plain.r and not longer:
             lengthen = False
-        if proved == 1 and plain.margin > 0.0:  # thick particles: near enough, crossed or not
-            a, b = _near_interval(plain, moved, phi, first)
-            if a + b > ahead + behind:
-                ahead, behind, found = a, b, True
+        ahead, behind, found = _nearer(plain, moved, phi, first, ahead, behind, found)
         if not found and options.tips and proved == 1:  # two end points, each through or near a side of the other
             ahead, behind = two_tips(plain, moved, got[0], phi, first)
             found = ahead > 0.0
-        if not found and proved == 1 and fallback > 0.0:  # go on at ``fallback`` from this φ
+        if not found and proved == 1 and fallback[0] > 0.0:  # go on at ``fallback`` from this φ
             plain, halved, proved = _deeper(plain, fallback), _deeper(halved, fallback), 2
             ahead, behind, found, _ = _longest(plain, moved, got, phi, first)
+            ahead, behind, found = _nearer(plain, moved, phi, first, ahead, behind, found)
         if not found:
             return 0, phi
         if first:
@@ -215,8 +263,8 @@ def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
 @njit(**JIT, parallel=True)
 def cover_at(prepared_curves, positions, fallback, options, out, stops):
     """``out[p]``, ``stops[p]``: :func:`cover` of position p at depth (``rs[p]``, ``margins[p]``) (else
-    ``fallback``) with ``max_steps[p]`` intervals, its walk begun at φ = ``starts[p]``; ``positions``: (xs, ys,
-    rs, margins, max_steps, starts). Each position is written by one thread."""
+    ``fallback``: r, margin) with ``max_steps[p]`` intervals, its walk begun at φ = ``starts[p]``;
+    ``positions``: (xs, ys, rs, margins, max_steps, starts). Each position is written by one thread."""
     xs, ys, rs, margins, max_steps, starts = positions
     v1, boxes1, v2, frame_boxes2, rin2, rout2, p1, p2 = prepared_curves[0]
     h1, hboxes1, h2, hframe_boxes2, hrin2, hrout2, hp1, hp2 = prepared_curves[1]
@@ -280,7 +328,8 @@ def certified_deep(
     starts = np.ascontiguousarray(np.broadcast_to(np.asarray(start, dtype=float), xs.shape))
     out = np.zeros(xs.shape[0], dtype=np.int8)
     where = np.empty(xs.shape[0]) if stops is None else stops
+    below = (max(fallback - contact, LEAST_DEPTH) if fallback > 0.0 else 0.0, contact - fallback)
     options = Options(*(int(v) for v in options[:3]), float(options[3]), bool(options[4]), bool(options[5]))
     with small_chunks():
-        cover_at(prepared_curves, (xs, ys, rs, margins, steps, starts), float(fallback), options, out, where)
+        cover_at(prepared_curves, (xs, ys, rs, margins, steps, starts), below, options, out, where)
     return out

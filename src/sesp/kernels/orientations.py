@@ -348,23 +348,27 @@ def boxes_distance2(a, b):
 
 
 @njit(**JIT)
-def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
-    """min(cap, distance between curve 1 and curve 2 turned by φ and moved to t), b.
-
-    ``boxes1``: :func:`chunk_boxes` of curve 1; ``moved``, ``boxes2``: scratch
-    for curve 2's vertices at (t, φ) and their boxes. A pair of segments is
-    measured only where the boxes of their runs, the box of each against the
-    other's run and their own boxes are all nearer than the nearest distance
-    found so far (the others cannot be nearer, so the minimum is the same);
-    where two segments meet it stops.
-    """
+def placed(v2, tx, ty, phi, moved, boxes2):
+    """Curve 2's vertices turned by φ and moved to t, written to ``moved``, and their boxes to ``boxes2``."""
     c = math.cos(phi)
     s = math.sin(phi)
     for k in range(v2.shape[0]):
         moved[k, 0] = tx + c * v2[k, 0] - s * v2[k, 1]
         moved[k, 1] = ty + s * v2[k, 0] + c * v2[k, 1]
     chunk_boxes(moved, boxes2)
-    best2 = cap * cap
+
+
+@njit(**JIT)
+def nearest_segments(v1, boxes1, moved, boxes2, cap):
+    """(d², i, j): the squared distance, capped at cap², between curve 1 and curve 2 placed (``moved``, its
+    boxes ``boxes2``), and a pair of segments at that distance (−1, −1 where none is nearer than ``cap``).
+
+    A pair of segments is measured only where the boxes of their runs, the box
+    of each against the other's run and their own boxes are all nearer than the
+    nearest distance found so far (the others cannot be nearer, so the minimum
+    is the same); where two segments meet it stops.
+    """
+    best2, bi, bj = cap * cap, -1, -1
     for a in range(boxes1.shape[0]):
         for b in range(boxes2.shape[0]):
             box = boxes2[b]
@@ -375,14 +379,25 @@ def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
                 x0, x1, y0, y1 = min(px, qx), max(px, qx), min(py, qy), max(py, qy)
                 if _gap2(x0, x1, y0, y1, box[0], box[1], box[2], box[3]) > best2:
                     continue
-                for j in range(b * CHUNK, min((b + 1) * CHUNK, v2.shape[0] - 1)):
+                for j in range(b * CHUNK, min((b + 1) * CHUNK, moved.shape[0] - 1)):
                     ax, ay, bx, by = moved[j, 0], moved[j, 1], moved[j + 1, 0], moved[j + 1, 1]
                     if _gap2(x0, x1, y0, y1, min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)) > best2:
                         continue
-                    best2 = min(best2, _segments_distance2(px, py, qx, qy, ax, ay, bx, by))
-                if best2 == 0.0:  # the curves meet: nothing is nearer
-                    return 0.0
-    return math.sqrt(best2)
+                    got = _segments_distance2(px, py, qx, qy, ax, ay, bx, by)
+                    if got < best2 or bi < 0 and got <= best2:
+                        best2, bi, bj = got, i, j
+                    if best2 == 0.0:  # the curves meet: nothing is nearer
+                        return 0.0, bi, bj
+    return best2, bi, bj
+
+
+@njit(**JIT)
+def clearance(v1, boxes1, v2, tx, ty, phi, cap, moved, boxes2):
+    """min(cap, distance between curve 1 and curve 2 turned by φ and moved to t), b. ``boxes1``:
+    :func:`chunk_boxes` of curve 1; ``moved``, ``boxes2``: scratch for curve 2's vertices at (t, φ) and their
+    boxes (:func:`nearest_segments`)."""
+    placed(v2, tx, ty, phi, moved, boxes2)
+    return math.sqrt(nearest_segments(v1, boxes1, moved, boxes2, cap)[0])
 
 
 def _halving_fractions(levels):
