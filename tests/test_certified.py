@@ -692,3 +692,25 @@ def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_
     ys = np.concatenate([y[proved], *(y[proved] + 0.999 * fallback * math.sin(t) for t in turns)])
     width, _ = widest_window(part, xs, ys, segments=128)
     assert np.all(width == 0)
+
+
+def test_a_staple_is_certified_deep_across_its_axis_and_excluded_by_brute_force():
+    """Two staples (three unit segments) at φ = 0 with their arms along each other: on the axis each arm of the
+    moving staple lies along the fixed staple's, and a translation up crosses its lower arm with the other's
+    back, one down its upper arm. No pair of runs shows that (each tip lies on the other curve's line); the two
+    tips' half-planes, with opposite normals, hold it jointly as φ turns through 0. Positions about the axis
+    certified 0.01 b deep, and 16 points 0.999 of that from each, are excluded exactly in φ."""
+    from sesp.orientations import widest_window
+
+    staple, r = Polyline([[0.5, -0.5], [-0.5, -0.5], [-0.5, 0.5], [0.5, 0.5]]), 0.01
+    pair = as_pair(staple)
+    curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
+    x = np.linspace(-0.9, -0.6, 31)
+    y = np.full(31, 4e-3)
+    got = depth_kernels.certified_deep(curves, x, y, r, 4096)
+    assert np.all(got == 1)
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x, *(x + 0.999 * r * math.cos(t) for t in turns)])
+    ys = np.concatenate([y, *(y + 0.999 * r * math.sin(t) for t in turns)])
+    width, _ = widest_window(staple, xs, ys)
+    assert np.all(width == 0)

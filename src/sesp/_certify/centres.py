@@ -130,9 +130,9 @@ def windows(problem: Problem, x, y):
     return width > 0, mid
 
 
-def cover(problem: Problem, x, y, r, steps, fallback=0.0, start=0.0, tips=False, stops=None):
+def cover(problem: Problem, x, y, r, steps, fallback=0.0, start=0.0, tips=0, stops=None):
     """:func:`sesp.kernels.depth.certified_deep` of positions (x, y) at depth ``r`` (b) of the particles, thick
-    or thin, else ``fallback``, with two end points tried where ``tips``."""
+    or thin, else ``fallback``, with two end points tried where ``tips`` (:meth:`~.settings.Settings.walk_options`)."""
     options = problem.settings.walk_options(tips)
     contact = problem.pair.contact
     return depth_kernels.certified_deep(problem.curves, x, y, r, steps, fallback, start, options, stops, contact)
@@ -144,11 +144,18 @@ def certified_disks(problem: Problem, x, y, h, steps, start):
     the leaf where it is under the rim), where the walk ran out of intervals, and the centres proved excluded
     (at least ``proof_depth`` deep). The walks begin at ``start`` (rad): an orientation allowed nearby, where a
     walk that fails fails first. Two end points are tried at ε + h, not for the wider disks, which only save
-    cells (their walks near the depth take ever shorter turns)."""
+    cells (their walks near the depth take ever shorter turns): where no pair of runs holds, and at every step
+    where a walk of the leaf's (or of a parent's) ran out of intervals (``steps`` above the first): a pair's
+    intervals may shrink towards an orientation that only two end points hold (two staples with their arms
+    along each other), and the walk would run out again."""
     if not len(x):
         return np.zeros(0, bool), np.zeros(0), np.zeros(0, bool), np.zeros(0, bool)
     eps, rim = problem.resolution, problem.rim
-    got = cover(problem, x, y, eps + h, steps, problem.settings.proof_depth, start, tips=True)
+    got = np.zeros(len(x), np.int8)
+    for tips, which in ((1, steps <= problem.steps), (2, steps > problem.steps)):
+        k = np.nonzero(which)[0]
+        if len(k):
+            got[k] = cover(problem, x[k], y[k], eps + h[k], steps[k], problem.settings.proof_depth, start[k], tips)
     deep, ran_out = got == 1, got == -1
     radius = np.where(deep, h, 0.0)
     thin = np.nonzero(deep & (h < rim))[0]

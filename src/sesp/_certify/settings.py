@@ -99,7 +99,9 @@ class Settings:
         """The search for a deeper point moves where it gains this factor."""
         return 1.0 + self.search_gain
 
-    def walk_options(self, tips: bool) -> Options:
+    def walk_options(self, tips: int) -> Options:
         """The depth kernels' options (:data:`sesp.kernels.depth.Options`): pairs r apart lengthened; two end
-        points tried where ``tips``."""
-        return Options(self.max_crossings, self.long_crossings, self.fallback_steps, self.least_tip_step, tips, True)
+        points tried where ``tips`` (0 never, 1 where no pair of runs holds, 2 at every step)."""
+        return Options(
+            self.max_crossings, self.long_crossings, self.fallback_steps, self.least_tip_step, int(tips), True
+        )

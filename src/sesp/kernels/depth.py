@@ -49,10 +49,11 @@ from .runs import (
 from .tips import two_tips
 
 # How a walk works, none of it part of what it proves (:class:`sesp.certified.Settings` documents each):
-# max_crossings, long_crossings, fallback_steps (counts), least_tip_step (a fraction of the depth), tips and
-# lengthen (whether two end points are tried, and whether a pair r apart is also lengthened)
+# max_crossings, long_crossings, fallback_steps (counts), least_tip_step (a fraction of the depth), tips (0:
+# two end points never tried, 1: where no pair of runs is r apart, 2: at every step, the longer kept) and
+# lengthen (whether a pair r apart is also lengthened)
 Options = namedtuple("Options", "max_crossings long_crossings fallback_steps least_tip_step tips lengthen")
-OPTIONS = Options(1024, 16, 64, 1e-6, True, True)
+OPTIONS = Options(1024, 16, 64, 1e-6, 1, True)
 # b: the least depth at which the curves are walked crossed. Below it the two roots of an end point's passage
 # through a segment, r apart, merge in floating point (coordinates are of order 1 b), the passage is missed and
 # the walk would prove too much; a larger depth proves less, so raising a smaller one to it stays sound.
@@ -214,10 +215,10 @@ def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
     ``max_steps`` were not enough at r. Where the walk at r fails it goes on at ``fallback`` from there: what is
     certified at r is certified at any smaller depth. ``prepared_curves``: :func:`prepared`. From the second
     interval on a pair r apart is also lengthened (``options.lengthen``), until once that gives no longer
-    interval; ``options.tips``: where no pair of runs is r apart, try two end points. The walk begins at φ =
-    ``start`` (radians): where the position is least deep there (an orientation allowed nearby), a walk that
-    fails fails at once. φ (radians): where the walk stopped, the orientation at which a walk that fails failed
-    (nearby positions at a like depth fail there too)."""
+    interval; ``options.tips``: where no pair of runs is r apart (1), or at every step (2), try two end points.
+    The walk begins at φ = ``start`` (radians): where the position is least deep there (an orientation allowed
+    nearby), a walk that fails fails at once. φ (radians): where the walk stopped, the orientation at which a
+    walk that fails failed (nearby positions at a like depth fail there too)."""
     roots = np.empty(16)
     plain, moved = _walk(prepared_curves[0], tx, ty, depth, roots, options)
     halved, moved_h = _walk(prepared_curves[1], tx, ty, depth, roots, options)
@@ -238,9 +239,13 @@ def cover(prepared_curves, tx, ty, depth, fallback, max_steps, start, options):
         if lengthen and got[5] >= plain.r and not longer:
             lengthen = False
         ahead, behind, found = _nearer(plain, moved, phi, first, ahead, behind, found)
-        if not found and options.tips and proved == 1:  # two end points, each through or near a side of the other
+        if options.tips and proved == 1 and not found:  # two end points, each through or near a side of the other
             ahead, behind = two_tips(plain, moved, got[0], phi, first)
             found = ahead > 0.0
+        elif options.tips == 2 and proved == 1:  # and where they hold longer than the pair found
+            a, b = two_tips(plain, moved, got[0], phi, first)
+            if a > ahead:
+                ahead, behind = a, b
         if not found and proved == 1 and fallback[0] > 0.0:  # go on at ``fallback`` from this φ
             plain, halved, proved = _deeper(plain, fallback), _deeper(halved, fallback), 2
             ahead, behind, found, _ = _longest(plain, moved, got, phi, first)
@@ -329,7 +334,7 @@ def certified_deep(
     out = np.zeros(xs.shape[0], dtype=np.int8)
     where = np.empty(xs.shape[0]) if stops is None else stops
     below = (max(fallback - contact, LEAST_DEPTH) if fallback > 0.0 else 0.0, contact - fallback)
-    options = Options(*(int(v) for v in options[:3]), float(options[3]), bool(options[4]), bool(options[5]))
+    options = Options(*(int(v) for v in options[:3]), float(options[3]), int(options[4]), bool(options[5]))
     with small_chunks():
         cover_at(prepared_curves, (xs, ys, rs, margins, steps, starts), below, options, out, where)
     return out

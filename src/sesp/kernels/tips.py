@@ -33,6 +33,7 @@ from .orientations import TWO_PI
 from .runs import certified_interval, inside_parity, nearest2, nearest_index
 
 Tips = namedtuple("Tips", "sides ends nearest plane turning graph")
+TIGHT = 1e-12  # b: the widest strip between two opposite half-planes that still hold every translation (_gap)
 
 
 @njit(**JIT)
@@ -193,6 +194,79 @@ def _largest_turn(tips, pair, r, bounds, direction):
 
 
 @njit(**JIT)
+def _gap(plane, pair) -> float:
+    """b: for two half-planes with opposite normals (on their parities' sides), how far they overlap along the
+    normal (negative: the width of the strip of translations neither holds); −inf for any other two. Two such
+    half-planes, closed, hold every translation where it is at least −1e-12 b (TIGHT): on their edges each tip
+    lies on its run's line, and within the strip both lie within 1e-12 b of them, touching to within the
+    floating point of coordinates of order 1 b (:data:`~sesp.kernels.depth.LEAST_DEPTH` is 1e-9 b)."""
+    a, odd_a, b, odd_b = pair
+    ax, ay, ca = _half_plane(plane, a, odd_a, 0.0)
+    bx, by, cb = _half_plane(plane, b, odd_b, 0.0)
+    if ax * bx + ay * by > -1.0 + 1e-12:
+        return -np.inf
+    return ca + cb
+
+
+@njit(**JIT)
+def _motion(turning, q, odd, direction):
+    """(rate, bend, extra): tip q's half-plane moves against its parity's side by rate·sin δ + bend·(cos δ − 1),
+    and by at most extra·δ more, while φ turns by δ in ``direction`` (:func:`_shift` bounds it)."""
+    rate, bend, extra = direction * turning[q, 0], turning[q, 1], turning[q, 2]
+    if not odd:
+        rate, bend = -rate, -bend
+    return rate, bend, extra
+
+
+@njit(**JIT)
+def _opposite_turn(tips, pair, r, bounds, direction):
+    """:func:`_largest_turn` for two half-planes with opposite normals (0 for any other two): they hold every
+    translation while their overlap, which moves by the sum of their two motions (a sinusoid in δ, and at most
+    the tips' extra·δ more), stays at least −TIGHT; each still moves by at most ``below``, and each tip along
+    its run by at most ``lateral`` less r. Where both tips move alike (as the two ends of a staple's arms, across
+    two parallel sides of the other) the overlap hardly changes, and the turn passes the orientation at which it
+    is 0: one half-plane alone, or each with its own worst motion, takes ever shorter turns there."""
+    a, odd_a, b, odd_b = pair
+    gap = _gap(tips.plane, pair)
+    if gap < -TIGHT:
+        return 0.0
+    most, lateral, below = bounds
+    turning = tips.turning
+    ra, ba, ea = _motion(turning, a, odd_a, direction)
+    rb, bb, eb = _motion(turning, b, odd_b, direction)
+    rate, bend, extra = ra + rb, ba + bb, ea + eb
+    hi = most
+    for q in (a, b):
+        speed = turning[q, 3] + turning[q, 2]
+        if speed * hi > lateral:
+            hi = lateral / speed
+    lo = 0.0
+    for k in range(31):
+        turn = hi if k == 0 else 0.5 * (lo + hi)
+        moved = _sinusoid_most(rate, bend, turn) + extra * turn
+        each = max(_shift(turning, a, odd_a, direction, turn), _shift(turning, b, odd_b, direction, turn))
+        if gap - moved >= -TIGHT and each <= below:
+            if k == 0:
+                return hi
+            lo = turn
+        else:
+            hi = turn
+    return lo
+
+
+@njit(**JIT)
+def _sinusoid_most(rate, bend, turn):
+    """The largest of rate·sin δ + bend·(cos δ − 1) over 0 ≤ δ ≤ ``turn`` (≤ π/2): at an end, or where its
+    derivative rate·cos δ − bend·sin δ vanishes."""
+    best = max(0.0, rate * math.sin(turn) + bend * (math.cos(turn) - 1.0))
+    at = math.atan2(rate, bend)
+    for d in (at, at + math.pi, at - math.pi):
+        if 0.0 < d < turn:
+            best = max(best, rate * math.sin(d) + bend * (math.cos(d) - 1.0))
+    return best
+
+
+@njit(**JIT)
 def _tips_near(walk, moved, slab):
     """(sides, ends, nearest, m): the m end points of the open curves within r + ``slab`` (b) of the other curve
     (a tip farther than the widest slab shows nothing), with the other curve's segment nearest to each."""
@@ -248,7 +322,8 @@ def _pair_interval(walk, moved, count, tips, ab, scale, phi, first):
     hope = False
     for oa in (False, True):
         for ob in (False, True):
-            hope = hope or _covered(tips.plane, (a, oa, b, ob), (0.0, 0.0), r)
+            parities = (a, oa, b, ob)
+            hope = hope or _covered(tips.plane, parities, (0.0, 0.0), r) or _gap(tips.plane, parities) >= -TIGHT
     if not hope:
         return 0.0, 0.0  # no parities would do: the runs need not be found
     ra = _tip_runs(walk.curves, moved, count, (tips.sides[a], tips.ends[a]), (graph[a, 0], graph[a, 1]), reach)
@@ -261,10 +336,13 @@ def _pair_interval(walk, moved, count, tips, ab, scale, phi, first):
     # same all along
     below = min(tips.plane[a, 2], tips.plane[b, 2]) + 0.99 * r
     bounds = (most, 2.0 * rho * most, below)
-    ahead = _largest_turn(tips, pair, r, bounds, 1.0)
+    # two opposite half-planes move jointly: where the tips move alike, far longer than each with its own worst
+    ahead = max(_largest_turn(tips, pair, r, bounds, 1.0), _opposite_turn(tips, pair, r, bounds, 1.0))
     if ahead * rho <= walk.options.least_tip_step * r:
         return 0.0, 0.0
-    behind = _largest_turn(tips, pair, r, bounds, -1.0) if first else 0.0
+    behind = 0.0
+    if first:
+        behind = max(_largest_turn(tips, pair, r, bounds, -1.0), _opposite_turn(tips, pair, r, bounds, -1.0))
     for got in (ra, rb):
         around = certified_interval(walk, got[:4], phi, TWO_PI if first else 0.0, got[4])
         ahead, behind = min(ahead, around[0]), min(behind, around[1])
