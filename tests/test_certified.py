@@ -16,7 +16,7 @@ from sesp.certified import Settings, certified_components
 from sesp.cli import main
 from sesp.kernels import depth as depth_kernels
 from sesp.kernels import runs as run_kernels
-from sesp.orientations import allowed_orientations
+from sesp.orientations import allowed_orientations, widest_window
 from sesp.pair import as_pair
 from sesp.topology import transitions
 
@@ -25,6 +25,16 @@ from cases import FULL
 
 COARSE = dict(resolution=1e-3)  # b: a resolution that keeps these tests to seconds
 NO_TIPS = depth_kernels.OPTIONS._replace(tips=False)  # depth walks without two end points
+
+
+def assert_excluded_around(part, x, y, r, segments=256):
+    """Positions (x, y) and 16 points 0.999 r from each (b) are excluded exactly in φ: what a certificate of depth
+    r at them claims."""
+    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    xs = np.concatenate([x, *(x + 0.999 * r * math.cos(t) for t in turns)])
+    ys = np.concatenate([y, *(y + 0.999 * r * math.sin(t) for t in turns)])
+    width, _ = widest_window(part, xs, ys, segments=segments)
+    assert np.all(width == 0)
 
 
 def _asp(degrees):
@@ -336,8 +346,6 @@ def test_certified_cells_are_excluded_within_the_resolution_by_brute_force(parti
     """Every point of a cell certified in E_ε lies at least ε inside the excluded set: its corners, its centre
     and the points ε from each of them are excluded exactly in φ (the widest allowed window is 0). The mixture
     (a SeSP against a bent polyline) has components on no axis."""
-    from sesp.orientations import widest_window
-
     eps = 1e-2
     found = certified_components(particle, other, resolution=eps, segments=64)
     cells = found.cells
@@ -393,8 +401,6 @@ def test_two_tips_sliding_along_flat_sides_are_certified_in_long_turns_and_exclu
     motion across the sides is a fifth of their speed, so the half-planes hold over turns long enough that the
     walk at 3.83e-5 b closes within 128 intervals (bounded by the curve's radius instead it took over 500).
     Exact windows find no allowed position 0.999 of that depth away (64 directions)."""
-    from sesp.orientations import widest_window
-
     part, r = SeSP(n=8, opening=math.radians(179.7)), 3.83e-5
     pair = as_pair(part, segments=256)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -411,8 +417,6 @@ def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     """Where two end points prove a position 1e-4 b deep and one pair of runs does not (positions along the
     body's left edges, where both ends of curve 2 poke through opposite sides of curve 1), the position and 16
     points 0.999e-4 b from it are excluded exactly in φ."""
-    from sesp.orientations import widest_window
-
     part, r = SeSP(n=n, opening=math.radians(degrees)), 1e-4
     pair = as_pair(part, segments=256)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -423,11 +427,7 @@ def test_depths_proved_by_two_tips_are_excluded_by_brute_force(n, degrees):
     assert np.all(both[one == 1] == 1)
     only = np.flatnonzero((both == 1) & (one != 1))
     assert len(only) >= 3
-    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
-    xs = np.concatenate([x[only], *(x[only] + 0.999 * r * math.cos(t) for t in turns)])
-    ys = np.concatenate([y[only], *(y[only] + 0.999 * r * math.sin(t) for t in turns)])
-    width, _ = widest_window(part, xs, ys, segments=256)
-    assert np.all(width == 0)
+    assert_excluded_around(part, x[only], y[only], r, segments=256)
 
 
 def test_the_asps_body_near_pi_is_proved_deep_by_two_end_points():
@@ -436,8 +436,6 @@ def test_the_asps_body_near_pi_is_proved_deep_by_two_end_points():
     one pair of runs holds 3e-4 b. Two end points prove 1.7e-3 b; 32 points 0.999 of that from t are excluded
     exactly in φ, and t + 1.9e-3 b (cos 87°, sin 87°) is allowed: the depth is under 1.9e-3 b. A walk at
     1.9e-3 b fails, and one begun at the orientation where it failed fails at its first interval."""
-    from sesp.orientations import widest_window
-
     part = SeSP(n=2, opening=math.radians(177))
     pair = as_pair(part, segments=256)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -464,19 +462,13 @@ def test_a_shallow_overlap_of_closed_curves_is_certified_in_a_few_intervals_and_
     in the lens: one interval of φ per vertex passing it, over 100 around the circle. With curve 2's run
     lengthened to the whole curve the pair holds until the turning curve sweeps over an end of curve 1's run:
     8 intervals suffice at 24 positions. Each, and 16 points 0.999 r from each, is excluded exactly in φ."""
-    from sesp.orientations import widest_window
-
     part, r = SeSP(n=2, opening=0.0), 1e-3
     pair = as_pair(part, segments=128)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     angles = np.linspace(0.1, 0.1 + 2 * math.pi, 24, endpoint=False)
     x, y = (2 - 3 * r) * np.cos(angles), (2 - 3 * r) * np.sin(angles)
     assert depth_kernels.certified_deep(curves, x, y, r, 8).tolist() == [1] * 24
-    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
-    xs = np.concatenate([x, *(x + 0.999 * r * math.cos(t) for t in turns)])
-    ys = np.concatenate([y, *(y + 0.999 * r * math.sin(t) for t in turns)])
-    width, _ = widest_window(part, xs, ys, segments=128)
-    assert np.all(width == 0)
+    assert_excluded_around(part, x, y, r, segments=128)
 
 
 @pytest.mark.parametrize(("n", "degrees"), [(2, 10), (8, 5)])
@@ -501,7 +493,6 @@ def test_positions_are_allowed_where_some_orientation_keeps_the_curves_apart(n, 
     from scipy.spatial import cKDTree
 
     from sesp.certified import allowed_positions
-    from sesp.orientations import widest_window
 
     pair = as_pair(SeSP(n=n, opening=math.radians(degrees)), segments=256)
     rng = np.random.default_rng(n)
@@ -652,8 +643,6 @@ def test_thick_particles_are_certified_deep_where_their_curves_stay_near_and_exc
     whose curves stay within D − r of each other at every φ (their distance grows by at most ρ per radian) is r
     deep. Positions of the ASP at 90°, 0.05 b thick, certified 4e-3 b deep where the curves cross at some φ and
     not at others, and 16 points 0.999 of that from each, are excluded exactly in φ."""
-    from sesp.orientations import widest_window
-
     part, r = SeSP(n=2, opening=math.radians(90), thickness=0.05), 4e-3
     pair = as_pair(part, segments=128)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -663,11 +652,7 @@ def test_thick_particles_are_certified_deep_where_their_curves_stay_near_and_exc
     crossing = depth_kernels.certified_deep(curves, x, y, r, 4096)  # the thin curves crossed at every φ
     near = np.flatnonzero((thick == 1) & (crossing != 1))
     assert len(near) >= 20  # the band of width about D about the thin excluded set
-    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
-    xs = np.concatenate([x[near], *(x[near] + 0.999 * r * math.cos(t) for t in turns)])
-    ys = np.concatenate([y[near], *(y[near] + 0.999 * r * math.sin(t) for t in turns)])
-    width, _ = widest_window(part, xs, ys, segments=128)
-    assert np.all(width == 0)
+    assert_excluded_around(part, x[near], y[near], r, segments=128)
 
 
 def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_force():
@@ -676,8 +661,6 @@ def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_
     other curve). Positions of the ASP at 90°, 0.05 b thick, about the excluded set's edge, proved 2e-3 b deep
     at the fallback and not 0.5 b: they and 16 points 0.999 of that from each are excluded exactly in φ; and
     some of them are proved so only where the curves come near without crossing."""
-    from sesp.orientations import widest_window
-
     part, fallback = SeSP(n=2, opening=math.radians(90), thickness=0.05), 2e-3
     pair = as_pair(part, segments=128)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -687,11 +670,7 @@ def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_
     crossed = depth_kernels.certified_deep(curves, x, y, fallback, 4096)  # the thin curves crossed at every φ
     proved = np.flatnonzero(got == 2)
     assert len(proved) >= 100 and np.sum(crossed[proved] != 1) >= 20
-    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
-    xs = np.concatenate([x[proved], *(x[proved] + 0.999 * fallback * math.cos(t) for t in turns)])
-    ys = np.concatenate([y[proved], *(y[proved] + 0.999 * fallback * math.sin(t) for t in turns)])
-    width, _ = widest_window(part, xs, ys, segments=128)
-    assert np.all(width == 0)
+    assert_excluded_around(part, x[proved], y[proved], fallback, segments=128)
 
 
 def test_a_staple_is_certified_deep_across_its_axis_and_excluded_by_brute_force():
@@ -700,8 +679,6 @@ def test_a_staple_is_certified_deep_across_its_axis_and_excluded_by_brute_force(
     back, one down its upper arm. No pair of runs shows that (each tip lies on the other curve's line); the two
     tips' half-planes, with opposite normals, hold it jointly as φ turns through 0. Positions about the axis
     certified 0.01 b deep, and 16 points 0.999 of that from each, are excluded exactly in φ."""
-    from sesp.orientations import widest_window
-
     staple, r = Polyline([[0.5, -0.5], [-0.5, -0.5], [-0.5, 0.5], [0.5, 0.5]]), 0.01
     pair = as_pair(staple)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
@@ -709,8 +686,4 @@ def test_a_staple_is_certified_deep_across_its_axis_and_excluded_by_brute_force(
     y = np.full(31, 4e-3)
     got = depth_kernels.certified_deep(curves, x, y, r, 4096)
     assert np.all(got == 1)
-    turns = np.linspace(0, 2 * math.pi, 16, endpoint=False)
-    xs = np.concatenate([x, *(x + 0.999 * r * math.cos(t) for t in turns)])
-    ys = np.concatenate([y, *(y + 0.999 * r * math.sin(t) for t in turns)])
-    width, _ = widest_window(staple, xs, ys)
-    assert np.all(width == 0)
+    assert_excluded_around(staple, x, y, r, segments=256)

@@ -167,14 +167,26 @@ def _shift(turning, q, odd, direction, turn):
 
 
 @njit(**JIT)
-def _largest_turn(tips, pair, r, bounds, direction):
+def _largest_turn(tips, pair, r, bounds, direction, joint):
     """The largest turn of φ (rad, at most ``most``; 0 if none) in ``direction`` over which both half-planes of
     ``pair`` (a, odd_a, b, odd_b), moved by their shifts (:func:`_shift`, each at most ``below``), still cover
     the disk of radius r, and each tip moves along its run by at most ``lateral`` (b) less r (the slab about
-    it). ``bounds``: (most, lateral, below)."""
+    it). ``bounds``: (most, lateral, below). ``joint``: two half-planes with opposite normals, which cover while
+    their overlap, moved by the sum of their two motions, stays at least −TIGHT (:func:`_gap`); 0 for any other
+    two. Where both tips move alike (as the two ends of a staple's arms, across two parallel sides of the other)
+    the overlap hardly changes, and the turn passes the orientation at which it is 0: each half-plane with its
+    own worst motion takes ever shorter turns there."""
     a, odd_a, b, odd_b = pair
     most, lateral, below = bounds
     turning = tips.turning
+    gap, rate, bend, extra = 0.0, 0.0, 0.0, 0.0
+    if joint:
+        gap = _gap(tips.plane, pair)
+        if gap < -TIGHT:
+            return 0.0
+        for q, odd in ((a, odd_a), (b, odd_b)):
+            rq, bq, eq = _motion(turning, q, odd, direction)
+            rate, bend, extra = rate + rq, bend + bq, extra + eq
     hi = most
     for q in (a, b):
         speed = turning[q, 3] + turning[q, 2]  # b per radian, at most (0: a tip at the centre of rotation)
@@ -184,7 +196,11 @@ def _largest_turn(tips, pair, r, bounds, direction):
     for k in range(31):
         turn = hi if k == 0 else 0.5 * (lo + hi)
         slack_a, slack_b = _shift(turning, a, odd_a, direction, turn), _shift(turning, b, odd_b, direction, turn)
-        if slack_a <= below and slack_b <= below and _covered(tips.plane, pair, (slack_a, slack_b), r):
+        if joint:
+            holds = gap - _sinusoid_most(rate, bend, turn) - extra * turn >= -TIGHT
+        else:
+            holds = _covered(tips.plane, pair, (slack_a, slack_b), r)
+        if slack_a <= below and slack_b <= below and holds:
             if k == 0:
                 return hi
             lo = turn
@@ -216,42 +232,6 @@ def _motion(turning, q, odd, direction):
     if not odd:
         rate, bend = -rate, -bend
     return rate, bend, extra
-
-
-@njit(**JIT)
-def _opposite_turn(tips, pair, r, bounds, direction):
-    """:func:`_largest_turn` for two half-planes with opposite normals (0 for any other two): they hold every
-    translation while their overlap, which moves by the sum of their two motions (a sinusoid in δ, and at most
-    the tips' extra·δ more), stays at least −TIGHT; each still moves by at most ``below``, and each tip along
-    its run by at most ``lateral`` less r. Where both tips move alike (as the two ends of a staple's arms, across
-    two parallel sides of the other) the overlap hardly changes, and the turn passes the orientation at which it
-    is 0: one half-plane alone, or each with its own worst motion, takes ever shorter turns there."""
-    a, odd_a, b, odd_b = pair
-    gap = _gap(tips.plane, pair)
-    if gap < -TIGHT:
-        return 0.0
-    most, lateral, below = bounds
-    turning = tips.turning
-    ra, ba, ea = _motion(turning, a, odd_a, direction)
-    rb, bb, eb = _motion(turning, b, odd_b, direction)
-    rate, bend, extra = ra + rb, ba + bb, ea + eb
-    hi = most
-    for q in (a, b):
-        speed = turning[q, 3] + turning[q, 2]
-        if speed * hi > lateral:
-            hi = lateral / speed
-    lo = 0.0
-    for k in range(31):
-        turn = hi if k == 0 else 0.5 * (lo + hi)
-        moved = _sinusoid_most(rate, bend, turn) + extra * turn
-        each = max(_shift(turning, a, odd_a, direction, turn), _shift(turning, b, odd_b, direction, turn))
-        if gap - moved >= -TIGHT and each <= below:
-            if k == 0:
-                return hi
-            lo = turn
-        else:
-            hi = turn
-    return lo
 
 
 @njit(**JIT)
@@ -337,12 +317,14 @@ def _pair_interval(walk, moved, count, tips, ab, scale, phi, first):
     below = min(tips.plane[a, 2], tips.plane[b, 2]) + 0.99 * r
     bounds = (most, 2.0 * rho * most, below)
     # two opposite half-planes move jointly: where the tips move alike, far longer than each with its own worst
-    ahead = max(_largest_turn(tips, pair, r, bounds, 1.0), _opposite_turn(tips, pair, r, bounds, 1.0))
+    ahead = max(_largest_turn(tips, pair, r, bounds, 1.0, False), _largest_turn(tips, pair, r, bounds, 1.0, True))
     if ahead * rho <= walk.options.least_tip_step * r:
         return 0.0, 0.0
     behind = 0.0
     if first:
-        behind = max(_largest_turn(tips, pair, r, bounds, -1.0), _opposite_turn(tips, pair, r, bounds, -1.0))
+        behind = max(
+            _largest_turn(tips, pair, r, bounds, -1.0, False), _largest_turn(tips, pair, r, bounds, -1.0, True)
+        )
     for got in (ra, rb):
         around = certified_interval(walk, got[:4], phi, TWO_PI if first else 0.0, got[4])
         ahead, behind = min(ahead, around[0]), min(behind, around[1])
