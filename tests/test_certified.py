@@ -659,18 +659,20 @@ def test_thick_particles_certified_at_the_fallback_depth_are_that_deep_by_brute_
     """A walk that fails at its depth goes on at the fallback depth, where thick particles count as near enough
     too (within D less the fallback, by the Lipschitz bound or by one curve's nearest segment against the whole
     other curve). Positions of the ASP at 90°, 0.05 b thick, about the excluded set's edge, proved 2e-3 b deep
-    at the fallback and not 0.5 b: they and 16 points 0.999 of that from each are excluded exactly in φ; and
-    some of them are proved so only where the curves come near without crossing."""
+    at the fallback and not 0.5 b, some only where the curves come near without crossing: 50 of them (40 of
+    those) and 16 points 0.999 of that from each are excluded exactly in φ."""
     part, fallback = SeSP(n=2, opening=math.radians(90), thickness=0.05), 2e-3
-    pair = as_pair(part, segments=128)
+    pair = as_pair(part, segments=64)
     curves = depth_kernels.prepared(pair.vertices1, pair.vertices2)
     rng = np.random.default_rng(5)
-    x, y = rng.uniform(-2.1, 2.1, 4000), rng.uniform(-2.1, 2.1, 4000)
+    x, y = rng.uniform(-2.1, 2.1, 3000), rng.uniform(-2.1, 2.1, 3000)
     got = depth_kernels.certified_deep(curves, x, y, 0.5, 4096, fallback=fallback, contact=pair.contact)
     crossed = depth_kernels.certified_deep(curves, x, y, fallback, 4096)  # the thin curves crossed at every φ
     proved = np.flatnonzero(got == 2)
-    assert len(proved) >= 100 and np.sum(crossed[proved] != 1) >= 20
-    assert_excluded_around(part, x[proved], y[proved], fallback, segments=128)
+    near = proved[crossed[proved] != 1]  # proved only as near enough
+    assert len(proved) >= 100 and len(near) >= 20
+    some = np.concatenate([near[:40], proved[crossed[proved] == 1][:10]])
+    assert_excluded_around(part, x[some], y[some], fallback, segments=64)
 
 
 def test_a_staple_is_certified_deep_across_its_axis_and_excluded_by_brute_force():
