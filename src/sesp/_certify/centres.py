@@ -109,8 +109,9 @@ def widest(problem: Problem, x, y, phi, h):
 def sampled(problem: Problem, x, y, h):
     """(found, φ): the positions at which one of ``samples`` evenly spaced orientations keeps the curves apart,
     and the orientation (rad) of the largest clearance (measured up to 2h, b) among them. Thick pairs try these
-    before the exact windows: for them the windows solve six times as many sinusoids per pair of segments, and
-    cost about a hundred clearances a position (``benchmarks/README.md``), where a thin pair's cost about two."""
+    before the exact windows: for them the windows solve six times as many sinusoids per pair of segments, over
+    the more pairs that a wider annulus lets through, and cost many times what a thin pair's do
+    (``benchmarks/README.md``)."""
     k, n = problem.settings.samples, len(x)
     turns = np.arange(k) * (2.0 * np.pi / k)
     got = clearance_of(problem, np.repeat(x, k), np.repeat(y, k), np.tile(turns, n), np.repeat(h, k)).reshape(n, k)
