@@ -18,7 +18,11 @@ position is certified r deep when the intervals close around the circle.
   same pair with one run lengthened to its whole curve holds until the turning
   curve sweeps over an end of the short run (:func:`_longest`).
 * Where no pair keeps apart, two end points of the open curves may
-  (:mod:`sesp.kernels.tips`).
+  (:mod:`sesp.kernels.tips`); a walk asked to (``options.tips`` 2) tries
+  them at every step and keeps the longer interval.
+* Thick particles overlap where their curves come within the contact
+  distance, crossed or not: they are near enough at φ while their distance
+  stays within the margin (:func:`_near_interval`).
 * A closed curve has no end points: it is stored twice over, and its runs may
   pass the polyline's first vertex.
 

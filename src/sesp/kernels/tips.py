@@ -160,9 +160,7 @@ def _shift(turning, q, odd, direction, turn):
     ``direction`` (±1). The tip moves towards its run's line by A·sin δ + B·(cos δ − 1) (δ the signed turn), and
     by at most extra·|δ| more; over every turn up to ``turn`` that is at most max(±A, 0)·turn +
     max(∓B, 0)·turn²/2 + extra·turn."""
-    rate, bend, extra = direction * turning[q, 0], turning[q, 1], turning[q, 2]
-    if not odd:  # the half-plane of an even parity lies on the other side: the height moves it the other way
-        rate, bend = -rate, -bend
+    rate, bend, extra = _motion(turning, q, odd, direction)
     return max(rate, 0.0) * turn + max(-bend, 0.0) * 0.5 * turn * turn + extra * turn
 
 
@@ -227,20 +225,20 @@ def _gap(plane, pair) -> float:
 @njit(**JIT)
 def _motion(turning, q, odd, direction):
     """(rate, bend, extra): tip q's half-plane moves against its parity's side by rate·sin δ + bend·(cos δ − 1),
-    and by at most extra·δ more, while φ turns by δ in ``direction`` (:func:`_shift` bounds it)."""
+    and by at most extra·δ more, while φ turns by δ in ``direction``."""
     rate, bend, extra = direction * turning[q, 0], turning[q, 1], turning[q, 2]
-    if not odd:
+    if not odd:  # the half-plane of an even parity lies on the other side: the height moves it the other way
         rate, bend = -rate, -bend
     return rate, bend, extra
 
 
 @njit(**JIT)
 def _sinusoid_most(rate, bend, turn):
-    """The largest of rate·sin δ + bend·(cos δ − 1) over 0 ≤ δ ≤ ``turn`` (≤ π/2): at an end, or where its
+    """The largest of rate·sin δ + bend·(cos δ − 1) over 0 ≤ δ ≤ ``turn`` (≤ 2π): at an end, or where its
     derivative rate·cos δ − bend·sin δ vanishes."""
     best = max(0.0, rate * math.sin(turn) + bend * (math.cos(turn) - 1.0))
     at = math.atan2(rate, bend)
-    for d in (at, at + math.pi, at - math.pi):
+    for d in (at, at + math.pi, at + 2.0 * math.pi):
         if 0.0 < d < turn:
             best = max(best, rate * math.sin(d) + bend * (math.cos(d) - 1.0))
     return best
@@ -316,7 +314,7 @@ def _pair_interval(walk, moved, count, tips, ab, scale, phi, first):
     # same all along
     below = min(tips.plane[a, 2], tips.plane[b, 2]) + 0.99 * r
     bounds = (most, 2.0 * rho * most, below)
-    # two opposite half-planes move jointly: where the tips move alike, far longer than each with its own worst
+    # the longer of: each half-plane with its own worst motion, and two opposite ones with their joint motion
     ahead = max(_largest_turn(tips, pair, r, bounds, 1.0, False), _largest_turn(tips, pair, r, bounds, 1.0, True))
     if ahead * rho <= walk.options.least_tip_step * r:
         return 0.0, 0.0
